@@ -1,0 +1,126 @@
+"""The paper's variation-and-selection algorithm.
+
+Each generation every econet is tested on the same ``trials`` random trial starts (one batch of
+population x trials environments, environment e = econet * trials + trial), the econets are
+ranked by fitness, the best ``parents`` are kept and each is copied population/parents times
+with bit-flip mutation. Every random draw comes from a stream named by (seed, run, generation,
+purpose), so a run is a pure function of its seed and can resume from any finished generation.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from . import genome
+from .config import Config
+from .controllers import Controller, make_controller
+from .engine import TrialMeasures, Trace, run_trials
+from .world import TrialSetup, World, sample_setups
+
+# Purposes of the random streams of one generation.
+_SETUPS, _MUTATION, _NOISE, _INITIAL = range(4)
+
+
+def rng_for(seed: int, run: int, generation: int, purpose: int) -> np.random.Generator:
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(run, generation,
+                                                                         purpose)))
+
+
+@dataclass
+class GenerationResult:
+    """One tested generation: per-trial measures shaped (population, trials)."""
+
+    generation: int
+    genomes: np.ndarray           # (population, n_weights) codes that were tested
+    measures: TrialMeasures       # each field (population, trials)
+    parents: np.ndarray           # indices of the selected econets, best first
+    trace: Trace | None           # per-cycle record, when asked for
+
+    @property
+    def fitness(self) -> np.ndarray:
+        """Per-econet fitness: cycles in contact summed over its trials."""
+        return self.measures.fitness.sum(axis=1)
+
+
+class Evaluator:
+    """Tests whole populations; owns one world and one controller sized population x trials."""
+
+    def __init__(self, config: Config, controller: Controller | None = None):
+        e = config.evolution
+        self.config = config
+        self.n_envs = e.population * e.trials
+        self.world = World(self.n_envs, config.model)
+        self.controller = controller or make_controller(e.condition, self.n_envs, config)
+
+    @property
+    def n_weights(self) -> int:
+        return self.controller.n_params
+
+    def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
+        """The generation's trial starts, laid out per environment."""
+        e = self.config.evolution
+        rng = rng_for(seed, run, generation, _SETUPS)
+        if e.shared_trials:
+            shared = sample_setups(rng, e.trials, self.config.model)
+            return shared.take(np.tile(np.arange(e.trials), e.population))
+        return sample_setups(rng, self.n_envs, self.config.model)
+
+    def evaluate(self, genomes: np.ndarray, setup: TrialSetup, noise_seed: int,
+                 record: bool = False) -> tuple[TrialMeasures, Trace | None]:
+        """Run every econet on its trials; measures are shaped (population, trials)."""
+        e = self.config.evolution
+        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
+        self.controller.load(np.repeat(weights, e.trials, axis=0), noise_seed)
+        measures, trace = run_trials(self.world, self.controller, setup, e.cycles, record)
+        shape = (e.population, e.trials)
+        return TrialMeasures(*(np.asarray(v).reshape(shape) for v in vars(measures).values())), \
+            trace
+
+    def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
+                        record: bool = False) -> GenerationResult:
+        """Test one generation exactly as the evolutionary run does (same trials and noise)."""
+        setup = self.trial_setups(seed, run, generation)
+        noise_seed = int(rng_for(seed, run, generation, _NOISE).integers(2 ** 63))
+        measures, trace = self.evaluate(genomes, setup, noise_seed, record)
+        parents = select_parents(measures.fitness.sum(axis=1), self.config.evolution.parents)
+        return GenerationResult(generation, genomes, measures, parents, trace)
+
+
+def initial_genomes(config: Config, n_weights: int, seed: int, run: int) -> np.ndarray:
+    e = config.evolution
+    return genome.random_genomes(rng_for(seed, run, 0, _INITIAL), e.population, n_weights,
+                                 e.bits_per_weight)
+
+
+def select_parents(fitness: np.ndarray, n_parents: int) -> np.ndarray:
+    """Indices of the n_parents fittest econets, best first; ties go to the lower index."""
+    return np.argsort(-fitness, kind="stable")[:n_parents]
+
+
+def next_generation(config: Config, result: GenerationResult, seed: int, run: int) -> np.ndarray:
+    """Offspring: each parent copied population/parents times, every copy mutated."""
+    e = config.evolution
+    copies = np.repeat(result.genomes[result.parents], config.offspring_per_parent, axis=0)
+    rng = rng_for(seed, run, result.generation, _MUTATION)
+    return genome.mutate(rng, copies, e.bits_per_weight, e.mutation_rate, e.mutation_mode)
+
+
+def evolve(config: Config, seed: int, run: int, evaluator: Evaluator | None = None,
+           start: tuple[int, np.ndarray] | None = None,
+           on_generation: Callable[[GenerationResult, np.ndarray], None] | None = None,
+           record: bool = False) -> np.ndarray:
+    """Run (or continue) one evolutionary run; returns the final population's genomes.
+
+    start: (generation, genomes) to continue from; default a fresh random population.
+    on_generation(result, offspring) is called after each generation is tested.
+    """
+    evaluator = evaluator or Evaluator(config)
+    generation, genomes = start or (0, initial_genomes(config, evaluator.n_weights, seed, run))
+    for generation in range(generation, config.evolution.generations):
+        result = evaluator.test_generation(genomes, seed, run, generation, record)
+        genomes = next_generation(config, result, seed, run)
+        if on_generation:
+            on_generation(result, genomes)
+    return genomes

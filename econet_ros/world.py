@@ -1,0 +1,346 @@
+"""The econet's world: a 2-D workspace, a rotating eye/body axis, a two-segment arm and an object.
+
+The whole physics is in this module, for a batch of independent environments (a single
+environment is a batch of one). Coordinates are centred on the agent (the eye and the shoulder
+sit at the origin of the 100 x 100 workspace); angles are degrees, counter-clockwise ("left")
+positive.
+
+State, per environment
+    body      absolute body-axis/eye angle (unwrapped: it may turn any number of full circles)
+    shoulder  shoulder joint angle q_s in [0, 180]; 180 = fully extended, 0 = fully flexed
+    elbow     elbow joint angle q_e in [0, 180]; 180 = straight arm, 0 = forearm folded back
+    object    object centre (x, y); the object is a disk of radius ``object_radius``
+
+Kinematics
+    upper arm direction  phi1 = body + 90 - q_s     (fully extended shoulder: 90 deg right of gaze)
+    forearm direction    phi2 = phi1 + 180 - q_e
+    flexing a joint (lowering q) rotates the segment beyond it to the left, as in the paper.
+
+Action space: ``motor`` (n, 5) in [0, 1]: [eye, shoulder flexor, shoulder extensor, elbow flexor,
+elbow extensor]. The eye turns 2*M*(eye - 0.5) degrees, each joint q changes by
+-M*(flexor - extensor), M = ``max_rotation_deg`` (15); joints stop at their limits.
+
+Observation space (``Observation``)
+    vision   (n, 8) in [0, 1]: unit j averages one-degree windows 8j..8j+7, unit 0 at the right
+             edge of the 64-degree field; a window holds 1 - d/50 for the nearest visible point
+             of the hand (last 5 units of the forearm) or the object in it, else 0. Taking the
+             nearest point makes nearer things occlude farther ones.
+    proprio  (n, 4) in [0, 1]: shoulder flexor q_s/180, shoulder extensor 1 - q_s/180, then the
+             same for the elbow (a flexor is stretched when its joint is extended).
+    touch    (n,) 0 or 1: the hand segment touches the object.
+    fixated  (n,) bool, for analyses, not a network input: the object is the nearest thing in at
+             least one window (it is in view and not wholly hidden behind the hand).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from .config import ModelConfig
+
+N_MOTOR = 5
+N_PROPRIO = 4
+
+
+@dataclass
+class Observation:
+    """What the senses report for a batch of environments at one cycle."""
+
+    cycle: int
+    vision: np.ndarray
+    proprio: np.ndarray
+    touch: np.ndarray
+    fixated: np.ndarray
+
+    def network_input(self) -> np.ndarray:
+        """The (n, visual_units + 5) input vector: vision, proprioception, touch."""
+        return np.concatenate([self.vision, self.proprio, self.touch[:, None]], axis=1)
+
+
+@dataclass
+class TrialSetup:
+    """Start states for a batch of trials: where the object lies and how the agent starts."""
+
+    object_xy: np.ndarray   # (n, 2)
+    body: np.ndarray        # (n,)
+    shoulder: np.ndarray    # (n,)
+    elbow: np.ndarray       # (n,)
+
+    def __len__(self) -> int:
+        return len(self.body)
+
+    def take(self, index: np.ndarray) -> "TrialSetup":
+        return TrialSetup(self.object_xy[index], self.body[index], self.shoulder[index],
+                          self.elbow[index])
+
+
+def sample_setups(rng: np.random.Generator, n: int, model: ModelConfig) -> TrialSetup:
+    """Draw n trial starts: the object uniformly over the reachable annulus (by area) and, for
+    the 'random' start posture, a uniformly random body axis and joint angles."""
+    angle = rng.uniform(0.0, 2 * np.pi, n)
+    r2 = rng.uniform(model.reach_min ** 2, model.reach_max ** 2, n)
+    radius = np.sqrt(r2)
+    object_xy = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+    if model.start_posture == "random":
+        body = rng.uniform(0.0, 360.0, n)
+        shoulder = rng.uniform(0.0, model.joint_max_deg, n)
+        elbow = rng.uniform(0.0, model.joint_max_deg, n)
+    else:  # "extended": gaze along +x, arm straight and fully extended
+        body = np.zeros(n)
+        shoulder = np.full(n, model.joint_max_deg)
+        elbow = np.full(n, model.joint_max_deg)
+    return TrialSetup(object_xy, body, shoulder, elbow)
+
+
+def reach_error(object_xy: np.ndarray, model: ModelConfig) -> str | None:
+    """Why an object position is outside the reachable annulus, or None if it is inside."""
+    distance = np.hypot(object_xy[..., 0], object_xy[..., 1])
+    bad = (distance < model.reach_min) | (distance > model.reach_max)
+    if np.any(bad):
+        worst = float(np.ravel(distance)[np.argmax(np.ravel(bad))])
+        return (f"object at distance {worst:.2f} is out of reach "
+                f"(allowed {model.reach_min:g}-{model.reach_max:g})")
+    return None
+
+
+class World:
+    """A batch of n econet environments advanced in lockstep, one cycle per ``step``."""
+
+    def __init__(self, n_envs: int, model: ModelConfig):
+        self.model = model
+        self.n_envs = n_envs
+        self.body = np.zeros(n_envs)
+        self.shoulder = np.full(n_envs, model.joint_max_deg)
+        self.elbow = np.full(n_envs, model.joint_max_deg)
+        self.object_xy = np.full((n_envs, 2), model.reach_max)
+        self.cycle = 0
+        self._vision = np.zeros((n_envs, model.visual_units))
+        self._proprio = np.zeros((n_envs, N_PROPRIO))
+        self._touch = np.zeros(n_envs)
+        self._fixated = np.zeros(n_envs, dtype=np.bool_)
+        self._sense()
+
+    def reset(self, setup: TrialSetup) -> Observation:
+        """Start a new trial in every environment; returns the cycle-0 observation."""
+        if len(setup) != self.n_envs:
+            raise ValueError(f"reset needs {self.n_envs} trial setups, got {len(setup)}")
+        self.body = np.asarray(setup.body, dtype=np.float64).copy()
+        self.shoulder = np.clip(np.asarray(setup.shoulder, dtype=np.float64), 0,
+                                self.model.joint_max_deg)
+        self.elbow = np.clip(np.asarray(setup.elbow, dtype=np.float64), 0,
+                             self.model.joint_max_deg)
+        self.object_xy = np.asarray(setup.object_xy, dtype=np.float64).copy()
+        self.cycle = 0
+        self._sense()
+        return self.observe()
+
+    def observe(self) -> Observation:
+        return Observation(self.cycle, self._vision.copy(), self._proprio.copy(),
+                           self._touch.copy(), self._fixated.copy())
+
+    def step(self, motor: np.ndarray) -> Observation:
+        """Apply one motor command per environment, advance one cycle, sense again."""
+        motor = np.asarray(motor, dtype=np.float64)
+        if motor.shape != (self.n_envs, N_MOTOR):
+            raise ValueError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "
+                             f"got {motor.shape}")
+        if not np.all(np.isfinite(motor)):
+            raise ValueError("motor command contains NaN or infinite values")
+        _move(self.body, self.shoulder, self.elbow, np.clip(motor, 0.0, 1.0),
+              self.model.max_rotation_deg, self.model.joint_max_deg)
+        self.cycle += 1
+        self._sense()
+        return self.observe()
+
+    def arm_points(self) -> np.ndarray:
+        """(n, 4, 2): shoulder, elbow, hand base and hand tip positions."""
+        m = self.model
+        return _arm_points_batch(self.body, self.shoulder, self.elbow, m.segment_length,
+                                 m.hand_length)
+
+    def hand_object_distance(self) -> np.ndarray:
+        """(n,): gap between the hand segment and the object's edge (0 when touching)."""
+        points = self.arm_points()
+        centre_to_hand = _segment_distance(points[:, 2], points[:, 3], self.object_xy)
+        return np.maximum(centre_to_hand - self.model.object_radius, 0.0)
+
+    def _sense(self) -> None:
+        m = self.model
+        _sense_batch(self.body, self.shoulder, self.elbow, self.object_xy, m.segment_length,
+                     m.hand_length, m.object_radius, m.field_of_view_deg, m.windows_per_unit,
+                     m.visual_range, m.joint_max_deg, self._vision, self._proprio, self._touch,
+                     self._fixated)
+
+
+def _segment_distance(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Distance from points p to segments a-b, all (n, 2)."""
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
+    return np.hypot(*(a + t[:, None] * d - p).T)
+
+
+# --- compiled kernels --------------------------------------------------------------------------
+
+@numba.njit(cache=True, inline="always")
+def _arm_geometry(body, shoulder, elbow, segment, hand):
+    """Elbow, hand-base and hand-tip coordinates for one arm."""
+    phi1 = math.radians(body + 90.0 - shoulder)
+    phi2 = phi1 + math.radians(180.0 - elbow)
+    ex, ey = segment * math.cos(phi1), segment * math.sin(phi1)
+    c2, s2 = math.cos(phi2), math.sin(phi2)
+    bx, by = ex + (segment - hand) * c2, ey + (segment - hand) * s2
+    tx, ty = ex + segment * c2, ey + segment * s2
+    return ex, ey, bx, by, tx, ty
+
+
+@numba.njit(cache=True)
+def _arm_points_batch(body, shoulder, elbow, segment, hand):
+    n = body.shape[0]
+    out = np.zeros((n, 4, 2))
+    for i in range(n):
+        ex, ey, bx, by, tx, ty = _arm_geometry(body[i], shoulder[i], elbow[i], segment, hand)
+        out[i, 1, 0], out[i, 1, 1] = ex, ey
+        out[i, 2, 0], out[i, 2, 1] = bx, by
+        out[i, 3, 0], out[i, 3, 1] = tx, ty
+    return out
+
+
+@numba.njit(cache=True, parallel=True)
+def _move(body, shoulder, elbow, motor, max_rot, joint_max):
+    for i in numba.prange(body.shape[0]):
+        body[i] += 2.0 * max_rot * (motor[i, 0] - 0.5)
+        shoulder[i] = min(max(shoulder[i] - max_rot * (motor[i, 1] - motor[i, 2]), 0.0),
+                          joint_max)
+        elbow[i] = min(max(elbow[i] - max_rot * (motor[i, 3] - motor[i, 4]), 0.0), joint_max)
+
+
+@numba.njit(cache=True, inline="always")
+def _disk_in_wedge(cx, cy, r, u0x, u0y, u1x, u1y):
+    """Nearest distance from the origin to the part of the disk (centre c, radius r) that lies
+    in the wedge between unit vectors u0 (right edge) and u1 (left edge); inf if none does."""
+    d = math.hypot(cx, cy)
+    if d <= r:
+        return 0.0
+    if u0x * cy - u0y * cx >= 0.0 and u1x * cy - u1y * cx <= 0.0:
+        return d - r                   # the point nearest the eye lies inside the wedge
+    best = math.inf                    # otherwise it lies on one of the wedge's edges
+    for ux, uy in ((u0x, u0y), (u1x, u1y)):
+        along = ux * cx + uy * cy
+        off = ux * cy - uy * cx
+        if along > 0.0 and abs(off) <= r:
+            best = min(best, max(along - math.sqrt(r * r - off * off), 0.0))
+    return best
+
+
+@numba.njit(cache=True, inline="always")
+def _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y):
+    """Nearest distance from the origin to the part of segment p + t*d, t in [0, 1], inside the
+    wedge between unit vectors u0 and u1 (less than 180 degrees apart); inf if none is."""
+    lo, hi = 0.0, 1.0
+    # Inside means cross(u0, x) >= 0 and cross(u1, x) <= 0; both are linear in t.
+    for ux, uy, sign in ((u0x, u0y, 1.0), (u1x, u1y, -1.0)):
+        c0 = sign * (ux * py - uy * px)
+        c1 = sign * (ux * dy - uy * dx)
+        if c1 == 0.0:
+            if c0 < 0.0:
+                return math.inf
+        elif c1 > 0.0:
+            lo = max(lo, -c0 / c1)
+        else:
+            hi = min(hi, -c0 / c1)
+    if lo > hi:
+        return math.inf
+    dd = dx * dx + dy * dy
+    t = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
+    t = min(max(t, lo), hi)
+    return math.hypot(px + t * dx, py + t * dy)
+
+
+@numba.njit(cache=True, inline="always")
+def _window_span(a_lo, a_hi, half_fov, window, n_windows):
+    """First and last window touched by the angles [a_lo, a_hi] (radians, eye frame)."""
+    first = max(int(math.floor((a_lo + half_fov) / window)), 0)
+    last = min(int(math.floor((a_hi + half_fov) / window)), n_windows - 1)
+    return first, last
+
+
+@numba.njit(cache=True, parallel=True)
+def _sense_batch(body, shoulder, elbow, object_xy, segment, hand, radius, fov_deg, per_unit,
+                 visual_range, joint_max, vision, proprio, touch, fixated):
+    n = body.shape[0]
+    n_units = vision.shape[1]
+    n_windows = n_units * per_unit
+    window = math.radians(fov_deg / n_windows)
+    half_fov = math.radians(fov_deg) / 2.0
+    edge_x = np.cos(-half_fov + window * np.arange(n_windows + 1))
+    edge_y = np.sin(-half_fov + window * np.arange(n_windows + 1))
+    for i in numba.prange(n):
+        ex, ey, bx, by, tx, ty = _arm_geometry(body[i], shoulder[i], elbow[i], segment, hand)
+        ox, oy = object_xy[i, 0], object_xy[i, 1]
+
+        # Touch: the hand segment comes within the object's radius of its centre.
+        hx, hy = tx - bx, ty - by
+        t = ((ox - bx) * hx + (oy - by) * hy) / (hx * hx + hy * hy)
+        t = min(max(t, 0.0), 1.0)
+        touch[i] = 1.0 if math.hypot(bx + t * hx - ox, by + t * hy - oy) <= radius else 0.0
+
+        proprio[i, 0] = shoulder[i] / joint_max
+        proprio[i, 1] = 1.0 - proprio[i, 0]
+        proprio[i, 2] = elbow[i] / joint_max
+        proprio[i, 3] = 1.0 - proprio[i, 2]
+
+        # Vision, in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
+        eye = math.radians(body[i])
+        ce, se = math.cos(eye), math.sin(eye)
+        px, py = bx * ce + by * se, -bx * se + by * ce
+        qx, qy = tx * ce + ty * se, -tx * se + ty * ce
+        cx, cy = ox * ce + oy * se, -ox * se + oy * ce
+        dx, dy = qx - px, qy - py
+
+        # The windows each shape can touch: its angular extent, clipped to the field.
+        d_obj = math.hypot(cx, cy)
+        if d_obj <= radius:
+            o_first, o_last = 0, n_windows - 1
+        else:
+            a_obj, half_obj = math.atan2(cy, cx), math.asin(radius / d_obj)
+            o_first, o_last = _window_span(a_obj - half_obj, a_obj + half_obj, half_fov, window,
+                                           n_windows)
+        ap, aq = math.atan2(py, px), math.atan2(qy, qx)
+        a_lo, a_hi = min(ap, aq), max(ap, aq)
+        if px * qy - py * qx == 0.0:
+            h_first, h_last = 0, n_windows - 1         # on a line through the eye: check all
+        elif a_hi - a_lo > math.pi:                    # the segment passes behind the eye
+            if a_lo < -half_fov and a_hi > half_fov:
+                h_first, h_last = n_windows, -1
+            else:
+                h_first, h_last = 0, n_windows - 1
+        else:
+            h_first, h_last = _window_span(a_lo, a_hi, half_fov, window, n_windows)
+
+        for u in range(n_units):
+            vision[i, u] = 0.0
+        seen = False
+        # Visit the two spans, merged when they overlap, so no empty window is visited.
+        if o_first <= o_last and h_first <= h_last and o_first <= h_last + 1 and \
+                h_first <= o_last + 1:
+            spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
+        else:
+            spans = ((o_first, o_last), (h_first, h_last))
+        for first, last in spans:
+            for w in range(first, last + 1):
+                u0x, u0y, u1x, u1y = edge_x[w], edge_y[w], edge_x[w + 1], edge_y[w + 1]
+                near_obj = math.inf
+                if o_first <= w <= o_last:
+                    near_obj = _disk_in_wedge(cx, cy, radius, u0x, u0y, u1x, u1y)
+                near_hand = math.inf
+                if h_first <= w <= h_last:
+                    near_hand = _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y)
+                nearest = min(near_obj, near_hand)
+                if nearest < math.inf:
+                    vision[i, w // per_unit] += max(1.0 - nearest / visual_range, 0.0) / per_unit
+                    if near_obj <= near_hand:
+                        seen = True
+        fixated[i] = seen
