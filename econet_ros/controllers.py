@@ -13,7 +13,9 @@ are ordered touch, visual hidden, proprioceptive hidden).
 """
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -40,11 +42,31 @@ class Controller(ABC):
         return 0
 
     def load(self, params: np.ndarray, noise_seed: int = 0) -> None:
-        """Install (n_envs, n_params) parameters; noise_seed seeds any randomness."""
+        """Install parameters, shape (n_networks, n_params): network k drives the block of
+        n_envs / n_networks consecutive environments starting at k * n_envs / n_networks (so
+        one row per environment, or one per econet whose trials lie side by side).
+        noise_seed seeds any randomness."""
 
     @abstractmethod
     def act(self, obs: Observation) -> np.ndarray:
         """Motor outputs (n_envs, 5) for this cycle's observation."""
+
+    def compiled(self, cycles: int) -> "CompiledPolicy | None":
+        """The controller as arrays the engine can run whole trials with in one compiled loop
+        (same results as calling ``act`` each cycle); None means the engine calls ``act``."""
+        return None
+
+
+@dataclass
+class CompiledPolicy:
+    """A network the engine evaluates itself (weights per network, ``block`` consecutive
+    environments per network), or a fixed table of motor outputs (cycles, n_envs, 5)."""
+
+    weights: np.ndarray = field(default_factory=lambda: np.zeros((1, 1)))
+    block: int = 1
+    layers: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), dtype=np.int64))
+    buffer_size: int = 0
+    motor_table: np.ndarray | None = None
 
 
 class FeedForwardNetwork(Controller):
@@ -64,6 +86,7 @@ class FeedForwardNetwork(Controller):
         self.buffer_size = end
         self._n_weights = n_weights
         self.weights = np.zeros((n_envs, n_weights))
+        self.block = 1
 
     @property
     def n_params(self) -> int:
@@ -71,20 +94,25 @@ class FeedForwardNetwork(Controller):
 
     def load(self, params: np.ndarray, noise_seed: int = 0) -> None:
         params = np.asarray(params, dtype=np.float64)
-        if params.shape != (self.n_envs, self.n_params):
-            raise ValueError(f"expected weights of shape ({self.n_envs}, {self.n_params}), "
-                             f"got {params.shape}")
+        if params.ndim != 2 or params.shape[1] != self.n_params or not params.shape[0] or \
+                self.n_envs % params.shape[0]:
+            raise ValueError(f"expected weights of shape (k, {self.n_params}) with k dividing "
+                             f"{self.n_envs} environments, got {params.shape}")
         self.weights = np.ascontiguousarray(params)
+        self.block = self.n_envs // params.shape[0]
 
     def act(self, obs: Observation) -> np.ndarray:
         return self.forward(obs.network_input())
 
     def forward(self, inputs: np.ndarray) -> np.ndarray:
         """Outputs (n, 5) for network inputs (n, visual_units + 5)."""
-        buffer = np.zeros((self.n_envs, self.buffer_size))
-        buffer[:, :inputs.shape[1]] = inputs
-        _forward(buffer, self.weights, self.layers)
-        return buffer[:, -N_MOTOR:]
+        buffer = np.zeros((self.buffer_size, self.n_envs))
+        buffer[:inputs.shape[1]] = inputs.T
+        _forward_batch(buffer, self.weights, self.block, self.layers)
+        return buffer[-N_MOTOR:].T.copy()
+
+    def compiled(self, cycles: int) -> CompiledPolicy:
+        return CompiledPolicy(self.weights, self.block, self.layers, self.buffer_size)
 
 
 class FourLayerNetwork(FeedForwardNetwork):
@@ -133,6 +161,10 @@ class RandomMovement(Controller):
     def act(self, obs: Observation) -> np.ndarray:
         return self._rng.random((self.n_envs, N_MOTOR))
 
+    def compiled(self, cycles: int) -> CompiledPolicy:
+        # One draw for all cycles consumes the generator exactly as ``cycles`` calls of act.
+        return CompiledPolicy(motor_table=self._rng.random((cycles, self.n_envs, N_MOTOR)))
+
 
 BUILTIN = {"normal": FourLayerNetwork, "three-layer": ThreeLayerNetwork,
            "random": RandomMovement}
@@ -147,15 +179,27 @@ def make_controller(condition: str, n_envs: int, config: Config) -> Controller:
                          f"(choose from {', '.join(BUILTIN)})") from None
 
 
+@numba.njit(cache=True, inline="always")
+def forward_block(buffer, weights, layers, total):
+    """One network driving a block of environments: buffer is (activations, envs), and each
+    layer fills its rows from its input rows. The loops over environments vectorise; ``total``
+    is scratch of one row."""
+    w = 0
+    for layer in range(layers.shape[0]):
+        in_start, in_stop, out_start, out_stop = layers[layer]
+        for unit in range(out_start, out_stop):
+            total[:] = 0.0
+            for j in range(in_start, in_stop):
+                weight = weights[w]
+                for env in range(total.shape[0]):
+                    total[env] += weight * buffer[j, env]
+                w += 1
+            for env in range(total.shape[0]):
+                buffer[unit, env] = 1.0 / (1.0 + math.exp(-total[env]))
+
+
 @numba.njit(cache=True, parallel=True)
-def _forward(buffer, weights, layers):
-    for i in numba.prange(buffer.shape[0]):
-        w = 0
-        for layer in range(layers.shape[0]):
-            in_start, in_stop, out_start, out_stop = layers[layer]
-            for unit in range(out_start, out_stop):
-                total = 0.0
-                for j in range(in_start, in_stop):
-                    total += weights[i, w] * buffer[i, j]
-                    w += 1
-                buffer[i, unit] = 1.0 / (1.0 + np.exp(-total))
+def _forward_batch(buffer, weights, block, layers):
+    """buffer is (activations, n_envs); network k drives environments [k*block, (k+1)*block)."""
+    for k in numba.prange(weights.shape[0]):
+        forward_block(buffer[:, k * block:(k + 1) * block], weights[k], layers, np.zeros(block))

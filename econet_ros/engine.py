@@ -7,10 +7,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
-from .controllers import Controller
-from .world import N_MOTOR, TrialSetup, World
+from .controllers import Controller, forward_block
+from .world import N_MOTOR, TrialSetup, World, arm_geometry, hand_gap, move, sense
 
 
 @dataclass
@@ -60,11 +61,27 @@ _PER_CYCLE = ("body", "shoulder", "elbow", "hand", "hand_object_distance", "touc
 
 def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: int,
                record: bool = False) -> tuple[TrialMeasures, Trace | None]:
-    """Run one trial in every environment of ``world``; optionally record the full trace."""
+    """Run one trial in every environment of ``world``; optionally record the full trace.
+
+    Controllers that offer a compiled policy (the paper's networks and random movement) run
+    whole trials inside one compiled loop; any other controller is called once per cycle. Both
+    drivers call the same per-environment functions, so they give identical results."""
     n = world.n_envs
     obs = world.reset(setup)
-    contact = np.zeros((cycles, n), dtype=bool)
     trace = _empty_trace(cycles, n, world) if record else None
+    policy = controller.compiled(cycles)
+    if policy is not None:
+        contact = np.zeros((cycles, n), dtype=np.bool_)
+        table = policy.motor_table if policy.motor_table is not None else np.zeros((1, 1, 5))
+        arrays = [getattr(trace, f) for f in _PER_CYCLE] if record else _NO_TRACE
+        _run_compiled(world.body, world.shoulder, world.elbow, world.object_xy, world.geometry,
+                      world.edges[0], world.edges[1], policy.weights, policy.block,
+                      policy.layers, policy.buffer_size, table, policy.motor_table is not None,
+                      contact, record, *arrays)
+        world.cycle = cycles
+        world.refresh()
+        return TrialMeasures.from_contact(contact), trace
+    contact = np.zeros((cycles, n), dtype=bool)
     if record:
         _record_state(trace, 0, world, obs)
     for t in range(cycles):
@@ -85,6 +102,12 @@ def _empty_trace(cycles: int, n: int, world: World) -> Trace:
                  world.object_xy.copy())
 
 
+# Placeholders with the trace arrays' types, for compiled runs that record nothing.
+_NO_TRACE = (np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1, 2)),
+             np.zeros((1, 1)), np.zeros((1, 1), dtype=bool), np.zeros((1, 1), dtype=bool),
+             np.zeros((1, 1, N_MOTOR)))
+
+
 def _record_state(trace: Trace, row: int, world: World, obs) -> None:
     trace.body[row] = world.body
     trace.shoulder[row] = world.shoulder
@@ -93,3 +116,55 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
     trace.hand_object_distance[row] = world.hand_object_distance()
     trace.touch[row] = obs.touch > 0.5
     trace.fixated[row] = obs.fixated
+
+
+@numba.njit(cache=True, inline="always")
+def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder, t_elbow,
+                t_hand, t_gap, t_touch, t_fixated):
+    ex, ey, bx, by, tx, ty = arm_geometry(b, s, e, geo)
+    t_body[row, i], t_shoulder[row, i], t_elbow[row, i] = b, s, e
+    t_hand[row, i, 0], t_hand[row, i, 1] = tx, ty
+    t_gap[row, i] = max(hand_gap(b, s, e, ox, oy, geo), 0.0)
+    t_touch[row, i], t_fixated[row, i] = touching, seen
+
+
+@numba.njit(cache=True, parallel=True)
+def _run_compiled(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights, block, layers,
+                  buffer_size, motor_table, use_table, contact, record, t_body, t_shoulder,
+                  t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor):
+    """Whole trials for each block of environments that share one network: sense, choose
+    outputs, move, repeat. Activations are (units, envs of the block), as in forward_block."""
+    n_inputs = geo.visual_units + 5
+    cycles = contact.shape[0]
+    n_blocks = body.shape[0] // block
+    for k in numba.prange(n_blocks):
+        first = k * block
+        buffer = np.zeros((max(buffer_size, n_inputs), block))
+        motor_rows = buffer.shape[0] - N_MOTOR
+        total = np.zeros(block)
+        senses = np.zeros(n_inputs)
+        motor = np.zeros(N_MOTOR)
+        for t in range(cycles + 1):
+            for m in range(block):
+                i = first + m
+                if t > 0:       # apply the command chosen from the previous observation
+                    for u in range(N_MOTOR):
+                        motor[u] = motor_table[t - 1, i, u] if use_table else \
+                            buffer[motor_rows + u, m]
+                    body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i],
+                                                          motor[0], motor[1], motor[2],
+                                                          motor[3], motor[4], geo)
+                    if record:
+                        t_motor[t - 1, i, :] = motor
+                seen = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1],
+                             geo, edge_x, edge_y, senses)
+                buffer[:n_inputs, m] = senses
+                touching = senses[n_inputs - 1] > 0.5
+                if t > 0:
+                    contact[t - 1, i] = touching
+                if record:
+                    _record_row(t, i, body[i], shoulder[i], elbow[i], object_xy[i, 0],
+                                object_xy[i, 1], touching, seen, geo, t_body, t_shoulder,
+                                t_elbow, t_hand, t_gap, t_touch, t_fixated)
+            if t < cycles and not use_table:
+                forward_block(buffer[:, :], weights[k], layers, total)

@@ -72,7 +72,7 @@ class Evaluator:
         """Run every econet on its trials; measures are shaped (population, trials)."""
         e = self.config.evolution
         weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
-        self.controller.load(np.repeat(weights, e.trials, axis=0), noise_seed)
+        self.controller.load(weights, noise_seed)   # econet k drives its trials' block
         measures, trace = run_trials(self.world, self.controller, setup, e.cycles, record)
         shape = (e.population, e.trials)
         return TrialMeasures(*(np.asarray(v).reshape(shape) for v in vars(measures).values())), \

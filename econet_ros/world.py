@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -106,22 +107,53 @@ def reach_error(object_xy: np.ndarray, model: ModelConfig) -> str | None:
     return None
 
 
+class Geometry(NamedTuple):
+    """The model constants the compiled kernels need, in kernel units (radians for angles)."""
+
+    segment: float
+    hand: float
+    radius: float
+    visual_range: float
+    joint_max: float
+    max_rotation: float
+    half_fov: float
+    window: float
+    windows_per_unit: int
+    visual_units: int
+
+    @classmethod
+    def of(cls, model: ModelConfig) -> "Geometry":
+        n_windows = model.visual_units * model.windows_per_unit
+        return cls(model.segment_length, model.hand_length, model.object_radius,
+                   model.visual_range, model.joint_max_deg, model.max_rotation_deg,
+                   math.radians(model.field_of_view_deg) / 2,
+                   math.radians(model.field_of_view_deg / n_windows), model.windows_per_unit,
+                   model.visual_units)
+
+    def window_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Unit vectors (x, y) of the window edges in the eye's frame, right to left."""
+        angles = -self.half_fov + self.window * np.arange(
+            self.visual_units * self.windows_per_unit + 1)
+        return np.cos(angles), np.sin(angles)
+
+
 class World:
     """A batch of n econet environments advanced in lockstep, one cycle per ``step``."""
 
     def __init__(self, n_envs: int, model: ModelConfig):
         self.model = model
+        self.geometry = Geometry.of(model)
+        self.edges = self.geometry.window_edges()
         self.n_envs = n_envs
         self.body = np.zeros(n_envs)
         self.shoulder = np.full(n_envs, model.joint_max_deg)
         self.elbow = np.full(n_envs, model.joint_max_deg)
         self.object_xy = np.full((n_envs, 2), model.reach_max)
         self.cycle = 0
-        self._vision = np.zeros((n_envs, model.visual_units))
-        self._proprio = np.zeros((n_envs, N_PROPRIO))
-        self._touch = np.zeros(n_envs)
-        self._fixated = np.zeros(n_envs, dtype=np.bool_)
-        self._sense()
+        # The network input layout: vision, proprioception, touch side by side.
+        self.senses = np.zeros((n_envs, model.visual_units + N_PROPRIO + 1))
+        self.fixated = np.zeros(n_envs, dtype=np.bool_)
+        self.refresh()
 
     def reset(self, setup: TrialSetup) -> Observation:
         """Start a new trial in every environment; returns the cycle-0 observation."""
@@ -134,12 +166,14 @@ class World:
                              self.model.joint_max_deg)
         self.object_xy = np.asarray(setup.object_xy, dtype=np.float64).copy()
         self.cycle = 0
-        self._sense()
+        self.refresh()
         return self.observe()
 
     def observe(self) -> Observation:
-        return Observation(self.cycle, self._vision.copy(), self._proprio.copy(),
-                           self._touch.copy(), self._fixated.copy())
+        units = self.model.visual_units
+        return Observation(self.cycle, self.senses[:, :units].copy(),
+                           self.senses[:, units:units + N_PROPRIO].copy(),
+                           self.senses[:, -1].copy(), self.fixated.copy())
 
     def step(self, motor: np.ndarray) -> Observation:
         """Apply one motor command per environment, advance one cycle, sense again."""
@@ -149,79 +183,94 @@ class World:
                              f"got {motor.shape}")
         if not np.all(np.isfinite(motor)):
             raise ValueError("motor command contains NaN or infinite values")
-        _move(self.body, self.shoulder, self.elbow, np.clip(motor, 0.0, 1.0),
-              self.model.max_rotation_deg, self.model.joint_max_deg)
+        _move_batch(self.body, self.shoulder, self.elbow, np.clip(motor, 0.0, 1.0),
+                    self.geometry)
         self.cycle += 1
-        self._sense()
+        self.refresh()
         return self.observe()
 
     def arm_points(self) -> np.ndarray:
         """(n, 4, 2): shoulder, elbow, hand base and hand tip positions."""
-        m = self.model
-        return _arm_points_batch(self.body, self.shoulder, self.elbow, m.segment_length,
-                                 m.hand_length)
+        return _arm_points_batch(self.body, self.shoulder, self.elbow, self.geometry)
 
     def hand_object_distance(self) -> np.ndarray:
         """(n,): gap between the hand segment and the object's edge (0 when touching)."""
-        points = self.arm_points()
-        centre_to_hand = _segment_distance(points[:, 2], points[:, 3], self.object_xy)
-        return np.maximum(centre_to_hand - self.model.object_radius, 0.0)
+        return _hand_gap_batch(self.body, self.shoulder, self.elbow, self.object_xy,
+                               self.geometry)
 
-    def _sense(self) -> None:
-        m = self.model
-        _sense_batch(self.body, self.shoulder, self.elbow, self.object_xy, m.segment_length,
-                     m.hand_length, m.object_radius, m.field_of_view_deg, m.windows_per_unit,
-                     m.visual_range, m.joint_max_deg, self._vision, self._proprio, self._touch,
-                     self._fixated)
-
-
-def _segment_distance(a: np.ndarray, b: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Distance from points p to segments a-b, all (n, 2)."""
-    d = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.einsum("ij,ij->i", d, d), 0.0, 1.0)
-    return np.hypot(*(a + t[:, None] * d - p).T)
+    def refresh(self) -> None:
+        """Recompute the senses from the state arrays (after changing them directly)."""
+        _sense_batch(self.body, self.shoulder, self.elbow, self.object_xy, self.geometry,
+                     self.edges[0], self.edges[1], self.senses, self.fixated)
 
 
 # --- compiled kernels --------------------------------------------------------------------------
+# Each quantity is computed by one inlined per-environment function; the batch kernels here and
+# the whole-trial kernel in engine.py only loop over environments and cycles around them.
 
 @numba.njit(cache=True, inline="always")
-def _arm_geometry(body, shoulder, elbow, segment, hand):
-    """Elbow, hand-base and hand-tip coordinates for one arm."""
+def arm_geometry(body, shoulder, elbow, geo):
+    """Elbow, hand-base and hand-tip coordinates of one arm."""
     phi1 = math.radians(body + 90.0 - shoulder)
     phi2 = phi1 + math.radians(180.0 - elbow)
-    ex, ey = segment * math.cos(phi1), segment * math.sin(phi1)
+    ex, ey = geo.segment * math.cos(phi1), geo.segment * math.sin(phi1)
     c2, s2 = math.cos(phi2), math.sin(phi2)
-    bx, by = ex + (segment - hand) * c2, ey + (segment - hand) * s2
-    tx, ty = ex + segment * c2, ey + segment * s2
+    bx, by = ex + (geo.segment - geo.hand) * c2, ey + (geo.segment - geo.hand) * s2
+    tx, ty = ex + geo.segment * c2, ey + geo.segment * s2
     return ex, ey, bx, by, tx, ty
 
 
+@numba.njit(cache=True, inline="always")
+def hand_gap(body, shoulder, elbow, ox, oy, geo):
+    """Distance from the object's edge to the hand segment (negative: overlapping)."""
+    ex, ey, bx, by, tx, ty = arm_geometry(body, shoulder, elbow, geo)
+    hx, hy = tx - bx, ty - by
+    t = min(max(((ox - bx) * hx + (oy - by) * hy) / (hx * hx + hy * hy), 0.0), 1.0)
+    gx, gy = bx + t * hx - ox, by + t * hy - oy
+    return math.sqrt(gx * gx + gy * gy) - geo.radius
+
+
+@numba.njit(cache=True, inline="always")
+def move(body, shoulder, elbow, eye, s_flex, s_ext, e_flex, e_ext, geo):
+    """The state after one motor command (outputs in [0, 1])."""
+    body = body + 2.0 * geo.max_rotation * (eye - 0.5)
+    shoulder = min(max(shoulder - geo.max_rotation * (s_flex - s_ext), 0.0), geo.joint_max)
+    elbow = min(max(elbow - geo.max_rotation * (e_flex - e_ext), 0.0), geo.joint_max)
+    return body, shoulder, elbow
+
+
+@numba.njit(cache=True, parallel=True)
+def _move_batch(body, shoulder, elbow, motor, geo):
+    for i in numba.prange(body.shape[0]):
+        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
+                                              motor[i, 1], motor[i, 2], motor[i, 3],
+                                              motor[i, 4], geo)
+
+
 @numba.njit(cache=True)
-def _arm_points_batch(body, shoulder, elbow, segment, hand):
-    n = body.shape[0]
-    out = np.zeros((n, 4, 2))
-    for i in range(n):
-        ex, ey, bx, by, tx, ty = _arm_geometry(body[i], shoulder[i], elbow[i], segment, hand)
+def _arm_points_batch(body, shoulder, elbow, geo):
+    out = np.zeros((body.shape[0], 4, 2))
+    for i in range(body.shape[0]):
+        ex, ey, bx, by, tx, ty = arm_geometry(body[i], shoulder[i], elbow[i], geo)
         out[i, 1, 0], out[i, 1, 1] = ex, ey
         out[i, 2, 0], out[i, 2, 1] = bx, by
         out[i, 3, 0], out[i, 3, 1] = tx, ty
     return out
 
 
-@numba.njit(cache=True, parallel=True)
-def _move(body, shoulder, elbow, motor, max_rot, joint_max):
-    for i in numba.prange(body.shape[0]):
-        body[i] += 2.0 * max_rot * (motor[i, 0] - 0.5)
-        shoulder[i] = min(max(shoulder[i] - max_rot * (motor[i, 1] - motor[i, 2]), 0.0),
-                          joint_max)
-        elbow[i] = min(max(elbow[i] - max_rot * (motor[i, 3] - motor[i, 4]), 0.0), joint_max)
+@numba.njit(cache=True)
+def _hand_gap_batch(body, shoulder, elbow, object_xy, geo):
+    out = np.zeros(body.shape[0])
+    for i in range(body.shape[0]):
+        out[i] = max(hand_gap(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1],
+                              geo), 0.0)
+    return out
 
 
 @numba.njit(cache=True, inline="always")
-def _disk_in_wedge(cx, cy, r, u0x, u0y, u1x, u1y):
-    """Nearest distance from the origin to the part of the disk (centre c, radius r) that lies
-    in the wedge between unit vectors u0 (right edge) and u1 (left edge); inf if none does."""
-    d = math.hypot(cx, cy)
+def _disk_in_wedge(cx, cy, d, r, u0x, u0y, u1x, u1y):
+    """Nearest distance from the origin to the part of the disk (centre c at distance d, radius
+    r) in the wedge between unit vectors u0 (right edge) and u1 (left edge); inf if none is."""
     if d <= r:
         return 0.0
     if u0x * cy - u0y * cx >= 0.0 and u1x * cy - u1y * cx <= 0.0:
@@ -256,91 +305,97 @@ def _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y):
     dd = dx * dx + dy * dy
     t = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
     t = min(max(t, lo), hi)
-    return math.hypot(px + t * dx, py + t * dy)
+    x, y = px + t * dx, py + t * dy
+    return math.sqrt(x * x + y * y)
 
 
 @numba.njit(cache=True, inline="always")
-def _window_span(a_lo, a_hi, half_fov, window, n_windows):
+def _window_span(a_lo, a_hi, geo, n_windows):
     """First and last window touched by the angles [a_lo, a_hi] (radians, eye frame)."""
-    first = max(int(math.floor((a_lo + half_fov) / window)), 0)
-    last = min(int(math.floor((a_hi + half_fov) / window)), n_windows - 1)
+    first = max(int(math.floor((a_lo + geo.half_fov) / geo.window)), 0)
+    last = min(int(math.floor((a_hi + geo.half_fov) / geo.window)), n_windows - 1)
     return first, last
 
 
-@numba.njit(cache=True, parallel=True)
-def _sense_batch(body, shoulder, elbow, object_xy, segment, hand, radius, fov_deg, per_unit,
-                 visual_range, joint_max, vision, proprio, touch, fixated):
-    n = body.shape[0]
-    n_units = vision.shape[1]
+@numba.njit(cache=True, inline="always")
+def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
+    """Write one environment's network input [vision, proprioception, touch] into ``senses``
+    and return whether the object is fixated (the nearest thing in at least one window)."""
+    n_units, per_unit = geo.visual_units, geo.windows_per_unit
     n_windows = n_units * per_unit
-    window = math.radians(fov_deg / n_windows)
-    half_fov = math.radians(fov_deg) / 2.0
-    edge_x = np.cos(-half_fov + window * np.arange(n_windows + 1))
-    edge_y = np.sin(-half_fov + window * np.arange(n_windows + 1))
-    for i in numba.prange(n):
-        ex, ey, bx, by, tx, ty = _arm_geometry(body[i], shoulder[i], elbow[i], segment, hand)
-        ox, oy = object_xy[i, 0], object_xy[i, 1]
+    ex, ey, bx, by, tx, ty = arm_geometry(body, shoulder, elbow, geo)
 
-        # Touch: the hand segment comes within the object's radius of its centre.
-        hx, hy = tx - bx, ty - by
-        t = ((ox - bx) * hx + (oy - by) * hy) / (hx * hx + hy * hy)
-        t = min(max(t, 0.0), 1.0)
-        touch[i] = 1.0 if math.hypot(bx + t * hx - ox, by + t * hy - oy) <= radius else 0.0
+    senses[n_units] = shoulder / geo.joint_max
+    senses[n_units + 1] = 1.0 - senses[n_units]
+    senses[n_units + 2] = elbow / geo.joint_max
+    senses[n_units + 3] = 1.0 - senses[n_units + 2]
+    senses[n_units + 4] = 1.0 if hand_gap(body, shoulder, elbow, ox, oy, geo) <= 0.0 else 0.0
 
-        proprio[i, 0] = shoulder[i] / joint_max
-        proprio[i, 1] = 1.0 - proprio[i, 0]
-        proprio[i, 2] = elbow[i] / joint_max
-        proprio[i, 3] = 1.0 - proprio[i, 2]
+    # Vision, in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
+    eye = math.radians(body)
+    ce, se = math.cos(eye), math.sin(eye)
+    px, py = bx * ce + by * se, -bx * se + by * ce
+    qx, qy = tx * ce + ty * se, -tx * se + ty * ce
+    cx, cy = ox * ce + oy * se, -ox * se + oy * ce
+    dx, dy = qx - px, qy - py
 
-        # Vision, in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
-        eye = math.radians(body[i])
-        ce, se = math.cos(eye), math.sin(eye)
-        px, py = bx * ce + by * se, -bx * se + by * ce
-        qx, qy = tx * ce + ty * se, -tx * se + ty * ce
-        cx, cy = ox * ce + oy * se, -ox * se + oy * ce
-        dx, dy = qx - px, qy - py
-
-        # The windows each shape can touch: its angular extent, clipped to the field.
-        d_obj = math.hypot(cx, cy)
-        if d_obj <= radius:
-            o_first, o_last = 0, n_windows - 1
-        else:
-            a_obj, half_obj = math.atan2(cy, cx), math.asin(radius / d_obj)
-            o_first, o_last = _window_span(a_obj - half_obj, a_obj + half_obj, half_fov, window,
-                                           n_windows)
+    # The windows each shape can touch: none if it lies wholly beyond one edge of the field
+    # (a cheap test that spares most unseen shapes the trigonometry), else its angular extent
+    # clipped to the field.
+    rx, ry, lx, ly = edge_x[0], edge_y[0], edge_x[n_windows], edge_y[n_windows]
+    d_obj = math.sqrt(cx * cx + cy * cy)
+    if rx * cy - ry * cx < -geo.radius or lx * cy - ly * cx > geo.radius:
+        o_first, o_last = n_windows, -1
+    elif d_obj <= geo.radius:
+        o_first, o_last = 0, n_windows - 1
+    else:
+        a_obj, half_obj = math.atan2(cy, cx), math.asin(geo.radius / d_obj)
+        o_first, o_last = _window_span(a_obj - half_obj, a_obj + half_obj, geo, n_windows)
+    hand_out = (rx * py - ry * px < 0.0 and rx * qy - ry * qx < 0.0) or \
+        (lx * py - ly * px > 0.0 and lx * qy - ly * qx > 0.0)
+    if hand_out:
+        h_first, h_last = n_windows, -1
+    elif px * qy - py * qx == 0.0:
+        h_first, h_last = 0, n_windows - 1             # on a line through the eye: check all
+    else:
         ap, aq = math.atan2(py, px), math.atan2(qy, qx)
         a_lo, a_hi = min(ap, aq), max(ap, aq)
-        if px * qy - py * qx == 0.0:
-            h_first, h_last = 0, n_windows - 1         # on a line through the eye: check all
-        elif a_hi - a_lo > math.pi:                    # the segment passes behind the eye
-            if a_lo < -half_fov and a_hi > half_fov:
+        if a_hi - a_lo > math.pi:                      # the segment passes behind the eye
+            if a_lo < -geo.half_fov and a_hi > geo.half_fov:
                 h_first, h_last = n_windows, -1
             else:
                 h_first, h_last = 0, n_windows - 1
         else:
-            h_first, h_last = _window_span(a_lo, a_hi, half_fov, window, n_windows)
+            h_first, h_last = _window_span(a_lo, a_hi, geo, n_windows)
 
-        for u in range(n_units):
-            vision[i, u] = 0.0
-        seen = False
-        # Visit the two spans, merged when they overlap, so no empty window is visited.
-        if o_first <= o_last and h_first <= h_last and o_first <= h_last + 1 and \
-                h_first <= o_last + 1:
-            spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
-        else:
-            spans = ((o_first, o_last), (h_first, h_last))
-        for first, last in spans:
-            for w in range(first, last + 1):
-                u0x, u0y, u1x, u1y = edge_x[w], edge_y[w], edge_x[w + 1], edge_y[w + 1]
-                near_obj = math.inf
-                if o_first <= w <= o_last:
-                    near_obj = _disk_in_wedge(cx, cy, radius, u0x, u0y, u1x, u1y)
-                near_hand = math.inf
-                if h_first <= w <= h_last:
-                    near_hand = _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y)
-                nearest = min(near_obj, near_hand)
-                if nearest < math.inf:
-                    vision[i, w // per_unit] += max(1.0 - nearest / visual_range, 0.0) / per_unit
-                    if near_obj <= near_hand:
-                        seen = True
-        fixated[i] = seen
+    for u in range(n_units):
+        senses[u] = 0.0
+    seen = False
+    # Visit the two spans, merged when they overlap, so no empty window is visited.
+    if o_first <= o_last and h_first <= h_last and o_first <= h_last + 1 and \
+            h_first <= o_last + 1:
+        spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
+    else:
+        spans = ((o_first, o_last), (h_first, h_last))
+    for first, last in spans:
+        for w in range(first, last + 1):
+            u0x, u0y, u1x, u1y = edge_x[w], edge_y[w], edge_x[w + 1], edge_y[w + 1]
+            near_obj = math.inf
+            if o_first <= w <= o_last:
+                near_obj = _disk_in_wedge(cx, cy, d_obj, geo.radius, u0x, u0y, u1x, u1y)
+            near_hand = math.inf
+            if h_first <= w <= h_last:
+                near_hand = _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y)
+            nearest = min(near_obj, near_hand)
+            if nearest < math.inf:
+                senses[w // per_unit] += max(1.0 - nearest / geo.visual_range, 0.0) / per_unit
+                if near_obj <= near_hand:
+                    seen = True
+    return seen
+
+
+@numba.njit(cache=True, parallel=True)
+def _sense_batch(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, senses, fixated):
+    for i in numba.prange(body.shape[0]):
+        fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
+                           edge_x, edge_y, senses[i])
