@@ -124,7 +124,7 @@ def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder
     ex, ey, bx, by, tx, ty = arm_geometry(b, s, e, geo)
     t_body[row, i], t_shoulder[row, i], t_elbow[row, i] = b, s, e
     t_hand[row, i, 0], t_hand[row, i, 1] = tx, ty
-    t_gap[row, i] = max(hand_gap(b, s, e, ox, oy, geo), 0.0)
+    t_gap[row, i] = max(hand_gap(bx, by, tx, ty, ox, oy, geo.radius), 0.0)
     t_touch[row, i], t_fixated[row, i] = touching, seen
 
 

@@ -221,13 +221,13 @@ def arm_geometry(body, shoulder, elbow, geo):
 
 
 @numba.njit(cache=True, inline="always")
-def hand_gap(body, shoulder, elbow, ox, oy, geo):
-    """Distance from the object's edge to the hand segment (negative: overlapping)."""
-    ex, ey, bx, by, tx, ty = arm_geometry(body, shoulder, elbow, geo)
+def hand_gap(bx, by, tx, ty, ox, oy, radius):
+    """Distance from the object's edge to the hand segment from hand base b to tip t
+    (negative: overlapping)."""
     hx, hy = tx - bx, ty - by
     t = min(max(((ox - bx) * hx + (oy - by) * hy) / (hx * hx + hy * hy), 0.0), 1.0)
     gx, gy = bx + t * hx - ox, by + t * hy - oy
-    return math.sqrt(gx * gx + gy * gy) - geo.radius
+    return math.sqrt(gx * gx + gy * gy) - radius
 
 
 @numba.njit(cache=True, inline="always")
@@ -262,8 +262,9 @@ def _arm_points_batch(body, shoulder, elbow, geo):
 def _hand_gap_batch(body, shoulder, elbow, object_xy, geo):
     out = np.zeros(body.shape[0])
     for i in range(body.shape[0]):
-        out[i] = max(hand_gap(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1],
-                              geo), 0.0)
+        ex, ey, bx, by, tx, ty = arm_geometry(body[i], shoulder[i], elbow[i], geo)
+        out[i] = max(hand_gap(bx, by, tx, ty, object_xy[i, 0], object_xy[i, 1], geo.radius),
+                     0.0)
     return out
 
 
@@ -273,15 +274,17 @@ def _disk_in_wedge(cx, cy, d, r, u0x, u0y, u1x, u1y):
     r) in the wedge between unit vectors u0 (right edge) and u1 (left edge); inf if none is."""
     if d <= r:
         return 0.0
-    if u0x * cy - u0y * cx >= 0.0 and u1x * cy - u1y * cx <= 0.0:
+    if u0x * cy - u0y * cx < 0.0:      # the centre lies right of the wedge: its right edge
+        ux, uy = u0x, u0y              # holds the nearest point
+    elif u1x * cy - u1y * cx > 0.0:    # left of the wedge: its left edge
+        ux, uy = u1x, u1y
+    else:
         return d - r                   # the point nearest the eye lies inside the wedge
-    best = math.inf                    # otherwise it lies on one of the wedge's edges
-    for ux, uy in ((u0x, u0y), (u1x, u1y)):
-        along = ux * cx + uy * cy
-        off = ux * cy - uy * cx
-        if along > 0.0 and abs(off) <= r:
-            best = min(best, max(along - math.sqrt(r * r - off * off), 0.0))
-    return best
+    along = ux * cx + uy * cy
+    off = ux * cy - uy * cx
+    if along > 0.0 and abs(off) <= r:
+        return max(along - math.sqrt(r * r - off * off), 0.0)
+    return math.inf
 
 
 @numba.njit(cache=True, inline="always")
@@ -329,7 +332,7 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
     senses[n_units + 1] = 1.0 - senses[n_units]
     senses[n_units + 2] = elbow / geo.joint_max
     senses[n_units + 3] = 1.0 - senses[n_units + 2]
-    senses[n_units + 4] = 1.0 if hand_gap(body, shoulder, elbow, ox, oy, geo) <= 0.0 else 0.0
+    senses[n_units + 4] = 1.0 if hand_gap(bx, by, tx, ty, ox, oy, geo.radius) <= 0.0 else 0.0
 
     # Vision, in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
     eye = math.radians(body)
