@@ -27,6 +27,9 @@ setup(
     entry_points={
         'console_scripts': [
             'econet = econet_ros.cli:main',
+            'world_node = econet_ros.nodes.world_node:main',
+            'controller_node = econet_ros.nodes.controller_node:main',
+            'supervisor_node = econet_ros.nodes.supervisor_node:main',
         ],
     },
 )

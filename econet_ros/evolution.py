@@ -28,6 +28,22 @@ def rng_for(seed: int, run: int, generation: int, purpose: int) -> np.random.Gen
                                                                          purpose)))
 
 
+def noise_seed(seed: int, run: int, generation: int) -> int:
+    """The seed of a generation's movement noise (used by the random-movement controller)."""
+    return int(rng_for(seed, run, generation, _NOISE).integers(2 ** 63))
+
+
+def score_generation(config: Config, generation: int, genomes: np.ndarray,
+                     measures: TrialMeasures) -> GenerationResult:
+    """A tested generation from its per-environment measures (environment e = econet *
+    trials + trial), however the trials were run: in process or through the ROS graph."""
+    e = config.evolution
+    shape = (e.population, e.trials)
+    per_econet = TrialMeasures(*(np.asarray(v).reshape(shape) for v in vars(measures).values()))
+    parents = select_parents(per_econet.fitness.sum(axis=1), e.parents)
+    return GenerationResult(generation, genomes, per_econet, parents, None)
+
+
 @dataclass
 class GenerationResult:
     """One tested generation: per-trial measures shaped (population, trials)."""
@@ -67,25 +83,17 @@ class Evaluator:
             return shared.take(np.tile(np.arange(e.trials), e.population))
         return sample_setups(rng, self.n_envs, self.config.model)
 
-    def evaluate(self, genomes: np.ndarray, setup: TrialSetup, noise_seed: int,
-                 record: bool = False) -> tuple[TrialMeasures, Trace | None]:
-        """Run every econet on its trials; measures are shaped (population, trials)."""
-        e = self.config.evolution
-        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
-        self.controller.load(weights, noise_seed)   # econet k drives its trials' block
-        measures, trace = run_trials(self.world, self.controller, setup, e.cycles, record)
-        shape = (e.population, e.trials)
-        return TrialMeasures(*(np.asarray(v).reshape(shape) for v in vars(measures).values())), \
-            trace
-
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
                         record: bool = False) -> GenerationResult:
         """Test one generation exactly as the evolutionary run does (same trials and noise)."""
-        setup = self.trial_setups(seed, run, generation)
-        noise_seed = int(rng_for(seed, run, generation, _NOISE).integers(2 ** 63))
-        measures, trace = self.evaluate(genomes, setup, noise_seed, record)
-        parents = select_parents(measures.fitness.sum(axis=1), self.config.evolution.parents)
-        return GenerationResult(generation, genomes, measures, parents, trace)
+        e = self.config.evolution
+        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
+        self.controller.load(weights, noise_seed(seed, run, generation))  # one per econet
+        measures, trace = run_trials(self.world, self.controller,
+                                     self.trial_setups(seed, run, generation), e.cycles, record)
+        result = score_generation(self.config, generation, genomes, measures)
+        result.trace = trace
+        return result
 
 
 def initial_genomes(config: Config, n_weights: int, seed: int, run: int) -> np.ndarray:

@@ -15,9 +15,10 @@ def test_set_weights_importable_and_generated_here():
     assert (REPO / 'install' / 'econet_msgs') in module_file.parents
     assert SetWeights.Request.get_fields_and_field_types() == {
         'n_envs': 'uint32',
-        'weights_per_env': 'uint32',
+        'weights_per_network': 'uint32',
         'weights': 'sequence<double>',
         'noise_seed': 'uint64',
+        'network': 'string',
     }
     assert SetWeights.Response.get_fields_and_field_types() == {
         'success': 'boolean',
@@ -33,15 +34,15 @@ def test_set_weights_request_round_trips_float64_exactly():
     rng = np.random.default_rng(1)
     weights = rng.standard_normal(1000) * 10.0 ** rng.integers(-300, 300, 1000)
     weights[:3] = [np.pi, -0.0, np.finfo(np.float64).tiny]
-    req = SetWeights.Request(n_envs=10, weights_per_env=100, weights=weights,
+    req = SetWeights.Request(n_envs=10, weights_per_network=100, weights=weights,
                              noise_seed=2**64 - 1)
-    assert req.n_envs * req.weights_per_env == len(req.weights)
+    assert req.n_envs * req.weights_per_network == len(req.weights)
 
     back = deserialize_message(serialize_message(req), SetWeights.Request)
     got = np.asarray(back.weights, dtype=np.float64)
     assert got.shape == (1000,)
     assert np.array_equal(got.view(np.uint64), weights.view(np.uint64))  # bit-exact
-    assert (back.n_envs, back.weights_per_env, back.noise_seed) == (10, 100, 2**64 - 1)
+    assert (back.n_envs, back.weights_per_network, back.noise_seed) == (10, 100, 2**64 - 1)
 
     resp = deserialize_message(
         serialize_message(SetWeights.Response(success=True, message='ok')),

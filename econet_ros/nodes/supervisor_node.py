@@ -1,0 +1,274 @@
+"""The supervisor node: runs the paper's evolutionary experiment through the graph.
+
+Per generation it swaps the controller's weights (set_weights), starts the generation's trials
+in the world (reset_trials), lets world and controller run the cycles in lockstep, scores
+fitness from the touch topic it hears, and selects and reproduces with the model core. It writes
+the same result folders as `econet evolve` (econet_ros.results.RunStore); a generation is
+written only once it is complete, so an interrupted one is simply tested again (generations are
+deterministic).
+
+Subscribes  touch (econet_msgs/Touch)
+Publishes   progress (econet_msgs/EvolutionProgress), one message per finished generation
+Calls       set_weights (econet_msgs/SetWeights), reset_trials (econet_msgs/ResetTrials)
+"""
+from __future__ import annotations
+
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from rclpy.node import Node
+
+from econet_msgs.msg import EvolutionProgress, Touch
+from econet_msgs.srv import ResetTrials, SetWeights
+
+from .. import genome
+from ..cli import UsageError, check_writable
+from ..config import CONDITIONS, Config, ConfigError
+from ..engine import TrialMeasures
+from ..evolution import (Evaluator, GenerationResult, initial_genomes, next_generation,
+                         noise_seed, score_generation)
+from ..experiment import run_folder, summarize
+from ..results import RunStore
+from . import common
+from .common import NodeError
+
+
+class GenerationFailed(Exception):
+    """A generation could not finish through the graph (a node vanished, a reply was refused,
+    nothing moved); it is tested again from its start."""
+
+
+class Refused(Exception):
+    """A node refused a request for a reason retrying cannot fix (e.g. wrong network)."""
+
+
+class SupervisorNode(Node):
+    def __init__(self, **node_options):
+        """node_options go to rclpy's Node (e.g. namespace, parameter_overrides)."""
+        super().__init__("supervisor", **node_options)
+        e = Config().evolution
+        p = {
+            "config": ("", "JSON config file (as econet --config); the options below override "
+                           "it"),
+            "condition": (e.condition, "normal, three-layer or random (the controller node's "
+                                       "network must match)"),
+            "generations": (e.generations, "generations per run"),
+            "population": (e.population, "econets per generation"),
+            "parents": (e.parents, "econets selected to reproduce"),
+            "trials": (e.trials, "trials per econet per generation"),
+            "cycles": (e.cycles, "movement cycles per trial"),
+            "seed": (1, "base random seed; a run is a pure function of it"),
+            "runs": (1, "independent runs, written to out/run-01, run-02, ..."),
+            "out": ("results/graph", "output folder (same layout as econet evolve --out)"),
+            "overwrite": (False, "delete out/run-* first instead of resuming them"),
+            "stall_timeout_sec": (3.0, "test a generation again when no cycle arrives for this "
+                                       "long"),
+            "service_timeout_sec": (5.0, "wait this long for a service reply before retrying"),
+        }
+        v = {name: common.declare(self, name, default, text)
+             for name, (default, text) in p.items()}
+        self.v = v
+        if v["condition"] not in CONDITIONS:
+            raise NodeError(f"condition must be one of {', '.join(CONDITIONS)}, "
+                            f"got '{v['condition']}'")
+        if v["runs"] < 1 or v["seed"] < 0:
+            raise NodeError("runs must be at least 1 and seed at least 0")
+        base = common.node_config(v["config"])
+        try:
+            self.config = base.replace(**{f"evolution.{k}": v[k] for k in (
+                "condition", "generations", "population", "parents", "trials", "cycles")})
+        except ConfigError as error:
+            raise NodeError(str(error)) from None
+        self.out = Path(v["out"])
+        try:
+            check_writable(self.out)
+        except UsageError as error:
+            raise NodeError(str(error)) from None
+        self.evaluator = Evaluator(self.config)   # the core's trial starts and weight count
+
+        self.touch: dict[int, dict[int, np.ndarray]] = {}   # trial -> cycle -> contact
+        self.last_touch = time.monotonic()
+        self.repeats = 0
+        self.create_subscription(Touch, common.TOUCH, self._on_touch, common.LOCKSTEP_QOS)
+        self.pub_progress = self.create_publisher(EvolutionProgress, common.PROGRESS,
+                                                  common.PROGRESS_QOS)
+        self.set_weights = self.create_client(SetWeights, common.SET_WEIGHTS)
+        self.reset_trials = self.create_client(ResetTrials, common.RESET_TRIALS)
+        self.executor_ = None
+
+    # -- plumbing -----------------------------------------------------------------------------
+    def _on_touch(self, msg: Touch) -> None:
+        cycles = self.touch.get(msg.trial)
+        if cycles is None:
+            cycles = self.touch[msg.trial] = {}
+        if msg.cycle in cycles:
+            self.repeats += 1
+            self.get_logger().error(f"lockstep broken: cycle {msg.cycle} of trial {msg.trial} "
+                                    "arrived twice")
+        cycles[msg.cycle] = common.as_u8(msg.contact)
+        self.last_touch = time.monotonic()
+
+    def _spin_until(self, done, timeout: float) -> bool:
+        deadline = time.monotonic() + timeout
+        while not done():
+            if time.monotonic() > deadline:
+                return False
+            self.executor_.spin_once(timeout_sec=0.05)
+        return True
+
+    def _call(self, client, request, what: str):
+        if not client.service_is_ready():
+            raise GenerationFailed(f"the {what} service is not available")
+        future = client.call_async(request)
+        if not self._spin_until(future.done, self.v["service_timeout_sec"]):
+            raise GenerationFailed(f"no reply from {what} within "
+                                   f"{self.v['service_timeout_sec']:g} s")
+        return future.result()
+
+    def _wait_for_graph(self) -> None:
+        """Block (logging now and then) until both services and the muscle commands exist."""
+        said = 0.0
+        while True:
+            missing = [name for name, ok in (
+                ("controller (set_weights service)", self.set_weights.service_is_ready()),
+                ("world (reset_trials service)", self.reset_trials.service_is_ready()),
+                ("controller (muscle_command publisher)",
+                 self.count_publishers(common.MUSCLE_COMMAND) > 0),
+                ("world (touch publisher)", self.count_publishers(common.TOUCH) > 0)) if not ok]
+            if not missing:
+                return
+            if time.monotonic() - said > 5.0:
+                self.get_logger().info("waiting for " + ", ".join(missing))
+                said = time.monotonic()
+            self._spin_until(lambda: False, 0.1)
+
+    # -- one generation through the graph -------------------------------------------------------
+    def test_generation(self, genomes: np.ndarray, seed: int, run: int,
+                        generation: int) -> GenerationResult:
+        """Like Evaluator.test_generation, with world and controller as separate nodes."""
+        e = self.config.evolution
+        setup = self.evaluator.trial_setups(seed, run, generation)
+        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)   # one per econet
+        weights_request = SetWeights.Request(
+            n_envs=len(setup), weights_per_network=weights.shape[1],
+            weights=common.f64(weights), noise_seed=noise_seed(seed, run, generation),
+            network=e.condition)
+        reset_request = ResetTrials.Request(
+            n_envs=len(setup), cycles=e.cycles, seed=0, object_xy=common.f64(setup.object_xy),
+            body_deg=common.f64(setup.body), shoulder_deg=common.f64(setup.shoulder),
+            elbow_deg=common.f64(setup.elbow))
+        attempt = 0
+        while True:
+            attempt += 1
+            try:
+                contact = self._run_trials(weights_request, reset_request, e.cycles)
+                break
+            except GenerationFailed as why:
+                self.get_logger().warning(f"run {run} generation {generation}: {why}; testing "
+                                          f"the generation again (attempt {attempt + 1})")
+                self._wait_for_graph()
+        return score_generation(self.config, generation, genomes,
+                                TrialMeasures.from_contact(contact))
+
+    def _run_trials(self, weights_request, reset_request, cycles: int) -> np.ndarray:
+        """(cycles, n_envs) contact history of one batch of trials, heard on `touch`."""
+        reply = self._call(self.set_weights, weights_request, "set_weights")
+        if not reply.success:
+            raise Refused(f"the controller refused the weights: {reply.message}")
+        self.touch.clear()
+        reply = self._call(self.reset_trials, reset_request, "reset_trials")
+        if not reply.success:
+            raise Refused(f"the world refused the reset: {reply.message}")
+        trial = reply.trial
+        for other in [t for t in self.touch if t != trial]:
+            del self.touch[other]
+        self.last_touch = time.monotonic()
+        heard = self.touch.setdefault(trial, {})
+        stall = self.v["stall_timeout_sec"]
+        while len(heard) < cycles + 1:
+            self.executor_.spin_once(timeout_sec=0.05)
+            heard = self.touch.setdefault(trial, {})
+            if self.count_publishers(common.MUSCLE_COMMAND) == 0:
+                raise GenerationFailed(f"the controller vanished (nothing publishes "
+                                       f"muscle_command) at cycle {len(heard) - 1} of "
+                                       f"{cycles}")
+            if self.count_publishers(common.TOUCH) == 0:
+                raise GenerationFailed(f"the world vanished at cycle {len(heard) - 1} of "
+                                       f"{cycles}")
+            if time.monotonic() - self.last_touch > stall:
+                raise GenerationFailed(f"no cycle for {stall:g} s after cycle "
+                                       f"{len(heard) - 1} of {cycles} (controller or world "
+                                       "gone?)")
+        n = reset_request.n_envs
+        contact = np.empty((cycles, n), dtype=bool)
+        for t in range(1, cycles + 1):
+            row = heard[t]
+            if len(row) != n:
+                raise GenerationFailed(f"touch for cycle {t} has {len(row)} environments, "
+                                       f"expected {n}")
+            contact[t - 1] = row != 0
+        del self.touch[trial]
+        return contact
+
+    # -- the experiment -------------------------------------------------------------------------
+    def evolve(self) -> int:
+        v, config = self.v, self.config
+        seed, runs, generations = v["seed"], v["runs"], config.evolution.generations
+        if v["overwrite"]:
+            for old in self.out.glob("run-*"):
+                shutil.rmtree(old)
+        n_weights = self.evaluator.n_weights
+        self._wait_for_graph()
+        self.get_logger().info(
+            f"evolving {runs} run(s) x {generations} generations of "
+            f"{config.evolution.population} {config.evolution.condition} econets x "
+            f"{config.evolution.trials} trials x {config.evolution.cycles} cycles into "
+            f"{self.out}")
+        for run in range(1, runs + 1):
+            store = RunStore(run_folder(self.out, run), config, seed, run, n_weights)
+            try:
+                generation, genomes = store.open(
+                    lambda run=run: initial_genomes(config, n_weights, seed, run))
+            except ConfigError as error:
+                raise NodeError(str(error)) from None
+            if generation:
+                self.get_logger().info(f"run {run}: resuming at generation {generation}")
+            while generation < generations:
+                start = time.monotonic()
+                result = self.test_generation(genomes, seed, run, generation)
+                offspring = next_generation(config, result, seed, run)
+                store.write(result, offspring)
+                seconds = time.monotonic() - start
+                fitness = result.fitness
+                top = float(fitness[result.parents].mean())
+                self.pub_progress.publish(EvolutionProgress(
+                    run=run, generation=generation, generations=generations,
+                    best_fitness=int(fitness.max()), top_fitness=top,
+                    mean_fitness=float(fitness.mean()), seconds=seconds,
+                    folder=str(store.path)))
+                self.get_logger().info(
+                    f"run {run} generation {generation + 1}/{generations}: best "
+                    f"{int(fitness.max())}, parents' mean {top:.1f}, population mean "
+                    f"{float(fitness.mean()):.1f} ({seconds:.2f} s)")
+                genomes, generation = offspring, generation + 1
+        self.get_logger().info(summarize(self.out, runs).replace("\n", " |"))
+        return 0
+
+
+def _body(node: SupervisorNode, executor) -> int:
+    node.executor_ = executor
+    try:
+        return node.evolve()
+    except Refused as error:
+        raise NodeError(str(error)) from None
+
+
+def main(args: list[str] | None = None) -> int:
+    return common.run_node("supervisor_node", SupervisorNode, args, body=_body)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

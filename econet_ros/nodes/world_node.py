@@ -1,0 +1,265 @@
+"""The world node: owns a batch of econet environments (econet_ros.world.World) and runs them
+in lockstep with a controller, or free-running at a fixed rate for demonstrations.
+
+Publishes   retina (econet_msgs/Retina), proprioception (econet_msgs/Proprioception),
+            touch (econet_msgs/Touch) once per cycle; joint_states (sensor_msgs/JointState) and
+            markers (visualization_msgs/MarkerArray) for one display environment, throttled
+Subscribes  muscle_command (econet_msgs/MuscleCommand)
+Serves      reset_trials (econet_msgs/ResetTrials)
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import numpy as np
+from geometry_msgs.msg import Point
+from rclpy.node import Node
+from sensor_msgs.msg import JointState
+from visualization_msgs.msg import Marker, MarkerArray
+
+from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+from econet_msgs.srv import ResetTrials
+
+from ..world import N_MOTOR, Observation, TrialSetup, World, reach_error, sample_setups
+from . import common
+from .common import NodeError
+
+MODES = ("lockstep", "free")
+NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
+
+
+class WorldNode(Node):
+    def __init__(self):
+        super().__init__("world")
+        n_envs = common.declare(self, "n_envs", 1,
+                                "environments at start-up (a reset may change it)")
+        config_path = common.declare(self, "config", "",
+                                     "JSON config file (as econet --config); only its model "
+                                     "section is used; empty = the paper's defaults")
+        self.mode = common.declare(self, "mode", "lockstep",
+                                   "lockstep: advance one cycle per matching muscle command; "
+                                   "free: advance at rate_hz with the newest command")
+        rate = common.declare(self, "rate_hz", 10.0, "cycles per second in free mode")
+        self.free_cycles = common.declare(self, "trial_cycles", 100,
+                                          "free mode: start a new random trial after this many "
+                                          "cycles (0 = never)")
+        self.seed = common.declare(self, "seed", 0,
+                                   "seed of the trials free mode draws (trial k uses seed + k)")
+        self.display_env = common.declare(self, "display_env", 0,
+                                          "environment shown on joint_states and markers")
+        display_rate = common.declare(self, "display_rate_hz", 20.0,
+                                      "most joint_states/markers pictures per second "
+                                      "(0 = every cycle, costly in lockstep)")
+        self.frame_id = common.declare(self, "frame_id", "econet",
+                                       "frame of the markers (agent at the origin, units = "
+                                       "workspace units)")
+        if self.mode not in MODES:
+            raise NodeError(f"mode must be one of {', '.join(MODES)}, got '{self.mode}'")
+        if n_envs < 1:
+            raise NodeError(f"n_envs must be at least 1, got {n_envs}")
+        if rate <= 0:
+            raise NodeError(f"rate_hz must be positive, got {rate}")
+        self.model = common.node_config(config_path).model
+        self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
+        self._last_display = -math.inf
+
+        World(1, self.model).step(NEUTRAL[None])   # compile (or load) the kernels now
+        self.world = World(n_envs, self.model)
+        self.trial = 0
+        self.limit = 0          # trial length; 0 = unlimited
+        self.started = False    # lockstep: no trial until the first reset
+        self.latest = None      # free mode: newest command
+
+        qos = common.LOCKSTEP_QOS
+        self.pub_retina = self.create_publisher(Retina, common.RETINA, qos)
+        self.pub_proprio = self.create_publisher(Proprioception, common.PROPRIOCEPTION, qos)
+        self.pub_touch = self.create_publisher(Touch, common.TOUCH, qos)
+        self.pub_joints = self.create_publisher(JointState, common.JOINT_STATES,
+                                                common.DISPLAY_QOS)
+        self.pub_markers = self.create_publisher(MarkerArray, common.MARKERS, common.DISPLAY_QOS)
+        self.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, self._on_command, qos)
+        self.create_service(ResetTrials, common.RESET_TRIALS, self._on_reset)
+
+        if self.mode == "free":
+            self._new_free_trial()
+            self.create_timer(1.0 / rate, self._on_tick)
+        self.get_logger().info(f"world ready: {n_envs} environment(s), {self.mode} mode")
+
+    # -- trials -----------------------------------------------------------------------------
+    def _start(self, setup: TrialSetup, cycles: int) -> None:
+        if len(setup) != self.world.n_envs:
+            self.world = World(len(setup), self.model)
+        self.world.reset(setup)
+        self.trial += 1
+        self.limit = cycles
+        self.started = True
+        self._publish(self.world.observe())
+
+    def _new_free_trial(self) -> None:
+        rng = np.random.default_rng(self.seed + self.trial + 1)
+        self._start(sample_setups(rng, self.world.n_envs, self.model), self.free_cycles)
+
+    def _on_reset(self, request: ResetTrials.Request, response: ResetTrials.Response):
+        try:
+            setup = self._setup_from(request)
+        except ValueError as error:
+            response.success = False
+            response.message = str(error)
+            self.get_logger().error(f"reset refused: {error}")
+        else:
+            self._start(setup, int(request.cycles))
+            response.success = True
+            response.message = f"trial {self.trial} started in {len(setup)} environment(s)"
+        response.trial = self.trial
+        response.n_envs = self.world.n_envs
+        return response
+
+    def _setup_from(self, request: ResetTrials.Request) -> TrialSetup:
+        """The trial starts a request describes; ValueError (one line) if it cannot work."""
+        n = int(request.n_envs) or self.world.n_envs
+        drawn = sample_setups(np.random.default_rng(request.seed), n, self.model)
+        parts = {}
+        for name, width in (("object_xy", 2), ("body_deg", 1), ("shoulder_deg", 1),
+                            ("elbow_deg", 1)):
+            values = common.as_f64(getattr(request, name))
+            if len(values) == 0:
+                continue
+            if len(values) != n * width:
+                raise ValueError(f"{name} has {len(values)} values, expected {n * width} "
+                                 f"({n} environment(s) x {width}) or none")
+            if not np.all(np.isfinite(values)):
+                raise ValueError(f"{name} contains NaN or infinite values")
+            parts[name] = values.reshape(n, 2) if width == 2 else values.copy()
+        if "object_xy" in parts:
+            problem = reach_error(parts["object_xy"], self.model)
+            if problem:
+                raise ValueError(problem)
+        for joint in ("shoulder_deg", "elbow_deg"):
+            if joint in parts and (parts[joint].min() < 0
+                                   or parts[joint].max() > self.model.joint_max_deg):
+                raise ValueError(f"{joint} must lie within 0-{self.model.joint_max_deg:g} "
+                                 "degrees")
+        return TrialSetup(parts.get("object_xy", drawn.object_xy),
+                          parts.get("body_deg", drawn.body),
+                          parts.get("shoulder_deg", drawn.shoulder),
+                          parts.get("elbow_deg", drawn.elbow))
+
+    # -- commands ---------------------------------------------------------------------------
+    def _decode(self, msg: MuscleCommand) -> np.ndarray | None:
+        n = self.world.n_envs
+        motor = common.as_f64(msg.activation)
+        if msg.n_envs != n or len(motor) != n * N_MOTOR:
+            self.get_logger().error(
+                f"rejected muscle command: {len(motor)} values for n_envs={msg.n_envs}, the "
+                f"world has {n} environment(s) x {N_MOTOR} muscles = {n * N_MOTOR} values")
+            return None
+        if not np.all(np.isfinite(motor)):
+            self.get_logger().error("rejected muscle command: it contains NaN or infinite "
+                                    "values")
+            return None
+        return motor.reshape(n, N_MOTOR)
+
+    def _on_command(self, msg: MuscleCommand) -> None:
+        if self.mode == "free":
+            motor = self._decode(msg)
+            if motor is not None:
+                self.latest = motor
+            return
+        if not self.started:
+            self.get_logger().warning(f"rejected muscle command for trial {msg.trial} cycle "
+                                      f"{msg.cycle}: no trial yet (call reset_trials)")
+            return
+        if msg.trial != self.trial or msg.cycle != self.world.cycle:
+            self.get_logger().warning(
+                f"rejected muscle command for trial {msg.trial} cycle {msg.cycle}: the world "
+                f"is at trial {self.trial} cycle {self.world.cycle}")
+            return
+        if self.limit and self.world.cycle >= self.limit:
+            self.get_logger().warning(f"rejected muscle command for trial {msg.trial} cycle "
+                                      f"{msg.cycle}: the trial is over (reset_trials starts "
+                                      "the next)")
+            return
+        motor = self._decode(msg)
+        if motor is not None:
+            self._publish(self.world.step(motor))
+
+    def _on_tick(self) -> None:
+        if self.free_cycles and self.world.cycle >= self.free_cycles:
+            self._new_free_trial()
+            return
+        motor = self.latest
+        if motor is None or motor.shape[0] != self.world.n_envs:
+            motor = np.tile(NEUTRAL, (self.world.n_envs, 1))
+        self._publish(self.world.step(motor))
+
+    # -- output -----------------------------------------------------------------------------
+    def _publish(self, obs: Observation) -> None:
+        n = self.world.n_envs
+        final = bool(self.limit and obs.cycle >= self.limit)
+        head = dict(trial=self.trial, cycle=obs.cycle, final=final, n_envs=n)
+        self.pub_touch.publish(Touch(**head, contact=common.u8(obs.touch > 0.5)))
+        self.pub_proprio.publish(Proprioception(**head, stretch=common.f64(obs.proprio)))
+        self.pub_retina.publish(Retina(**head, units_per_env=obs.vision.shape[1],
+                                       activation=common.f64(obs.vision),
+                                       fixated=common.u8(obs.fixated)))
+        now = time.monotonic()
+        if now - self._last_display >= self.display_period or final:
+            self._last_display = now
+            self._publish_display(obs)
+
+    def _publish_display(self, obs: Observation) -> None:
+        i = min(max(self.display_env, 0), self.world.n_envs - 1)
+        w, m = self.world, self.model
+        stamp = self.get_clock().now().to_msg()
+        joints = JointState()
+        joints.header.stamp = stamp
+        joints.header.frame_id = self.frame_id
+        joints.name = ["body", "shoulder", "elbow"]
+        joints.position = [math.radians(w.body[i]), math.radians(w.shoulder[i]),
+                           math.radians(w.elbow[i])]
+        self.pub_joints.publish(joints)
+
+        points = w.arm_points()[i]
+        body = math.radians(w.body[i])
+        half = math.radians(m.field_of_view_deg / 2)
+        reach = m.visual_range
+        eye_field = [(0.0, 0.0), (reach * math.cos(body - half), reach * math.sin(body - half)),
+                     (0.0, 0.0), (reach * math.cos(body + half), reach * math.sin(body + half))]
+        touching = bool(obs.touch[i] > 0.5)
+        markers = MarkerArray()
+        markers.markers = [
+            self._marker(0, "arm", Marker.LINE_STRIP, points[:3], (0.9, 0.8, 0.6), 1.5, stamp),
+            self._marker(1, "hand", Marker.LINE_STRIP, points[2:],
+                         (0.1, 0.9, 0.1) if touching else (0.9, 0.3, 0.2), 2.0, stamp),
+            self._marker(2, "eye_field", Marker.LINE_LIST, eye_field,
+                         (0.3, 0.6, 1.0) if obs.fixated[i] else (0.5, 0.5, 0.5), 0.4, stamp),
+            self._marker(3, "object", Marker.CYLINDER, [w.object_xy[i]], (1.0, 0.8, 0.0),
+                         2 * m.object_radius, stamp),
+        ]
+        self.pub_markers.publish(markers)
+
+    def _marker(self, ident, ns, kind, xy, rgb, size, stamp) -> Marker:
+        marker = Marker()
+        marker.header.frame_id = self.frame_id
+        marker.header.stamp = stamp
+        marker.ns, marker.id, marker.type, marker.action = ns, ident, kind, Marker.ADD
+        marker.pose.orientation.w = 1.0
+        marker.color.r, marker.color.g, marker.color.b, marker.color.a = (*rgb, 1.0)
+        if kind == Marker.CYLINDER:
+            marker.pose.position.x, marker.pose.position.y = float(xy[0][0]), float(xy[0][1])
+            marker.scale.x = marker.scale.y = float(size)
+            marker.scale.z = 1.0
+        else:
+            marker.scale.x = float(size)
+            marker.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in xy]
+        return marker
+
+
+def main(args: list[str] | None = None) -> int:
+    return common.run_node("world_node", WorldNode, args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,188 @@
+#!/usr/bin/env python3
+"""Benchmark the node graph against its floor, in one run:
+
+  1. in-process: the core's Evaluator.test_generation for one generation (no ROS);
+  2. bare round trip: ping-pong of a tiny message between two processes (rclpy, same executor
+     as the nodes), the cost of one lockstep cycle that does no work;
+  3. graph: the same generation through world_node and controller_node, each in its own
+     process, driven by this process as the supervisor (SupervisorNode.test_generation);
+and prints how far the graph is above its floor, floor = in-process + cycles x round trip
+(target: graph <= in-process + 2 x cycles x round trip), and the projected time of a whole run.
+
+Run after the set-up:  . scripts/env.sh && python scripts/bench_graph.py [--generations 5]
+Defaults are paper size: 100 econets x 20 trials (2000 environments) x 100 cycles.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import random
+import signal
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def echo_main() -> int:
+    """The far end of the ping-pong: answer every ping on `ping` with a pong on `pong`."""
+    import rclpy
+    from econet_msgs.msg import Touch
+    from econet_ros.nodes import common
+
+    rclpy.init()
+    node = rclpy.create_node("bench_echo")
+    pub = node.create_publisher(Touch, "pong", common.LOCKSTEP_QOS)
+    node.create_subscription(Touch, "ping", pub.publish, common.LOCKSTEP_QOS)
+    executor = common.make_executor(common._executor_kind())
+    try:
+        common.spin(node, executor)
+    except KeyboardInterrupt:
+        pass
+    return 0
+
+
+def start(args: list[str]) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, *args], cwd=REPO, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+
+
+def stop(procs: list[subprocess.Popen]) -> None:
+    for proc in procs:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+    for proc in procs:
+        try:
+            proc.wait(5)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def spin_until(executor, done, timeout: float = 20.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not done():
+        if time.monotonic() > deadline:
+            raise SystemExit("bench_graph: error: timed out waiting for the other process")
+        executor.spin_once(timeout_sec=0.05)
+
+
+def round_trip(executor, node, n: int) -> list[float]:
+    from econet_msgs.msg import Touch
+    from econet_ros.nodes import common
+
+    got = []
+    pub = node.create_publisher(Touch, "ping", common.LOCKSTEP_QOS)
+    node.create_subscription(Touch, "pong", got.append, common.LOCKSTEP_QOS)
+    spin_until(executor, lambda: pub.get_subscription_count() > 0
+               and node.count_publishers("pong") > 0)
+    times = []
+    for i in range(n + 50):              # the first 50 warm up
+        t0 = time.perf_counter()
+        pub.publish(Touch(cycle=i))
+        spin_until(executor, lambda: len(got) > i)
+        times.append(time.perf_counter() - t0)
+    return times[50:]
+
+
+def main() -> int:
+    if "--echo" in sys.argv:
+        return echo_main()
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--generations", type=int, default=5, help="generations to time")
+    parser.add_argument("--population", type=int, default=100)
+    parser.add_argument("--parents", type=int, default=20)
+    parser.add_argument("--trials", type=int, default=20)
+    parser.add_argument("--cycles", type=int, default=100)
+    parser.add_argument("--round-trips", type=int, default=2000)
+    parser.add_argument("--run-generations", type=int, default=200,
+                        help="generations of the projected whole run (default: the paper's)")
+    args = parser.parse_args()
+    os.environ.setdefault("ROS_DOMAIN_ID", str(random.randint(120, 200)))
+
+    import numpy as np
+    import rclpy
+
+    from econet_ros.config import Config
+    from econet_ros.evolution import Evaluator, initial_genomes
+    from econet_ros.nodes import common
+    from econet_ros.nodes.supervisor_node import SupervisorNode
+
+    e = dict(population=args.population, parents=args.parents, trials=args.trials,
+             cycles=args.cycles)
+    config = Config().replace(**{f"evolution.{k}": v for k, v in e.items()})
+    n_envs = args.population * args.trials
+    print(f"generation: {args.population} econets x {args.trials} trials = {n_envs} "
+          f"environments x {args.cycles} cycles; {os.cpu_count()} CPUs; executor "
+          f"{common._executor_kind()}")
+
+    # 1. in-process
+    evaluator = Evaluator(config)
+    genomes = initial_genomes(config, evaluator.n_weights, 1, 1)
+    evaluator.test_generation(genomes, 1, 1, 0)          # warm up (numba)
+    inproc, expected = [], []
+    for g in range(args.generations):
+        t0 = time.perf_counter()
+        expected.append(evaluator.test_generation(genomes, 1, 1, g).fitness)
+        inproc.append(time.perf_counter() - t0)
+    t_in = statistics.median(inproc)
+
+    procs = []
+    rclpy.init(args=["bench", "--ros-args", "-p", f"out:=/tmp/econet-bench-unused",
+                     *[x for k, v in e.items() for x in ("-p", f"{k}:={v}")]])
+    try:
+        executor = common.make_executor(common._executor_kind())
+        # 2. bare round trip
+        procs.append(start([__file__, "--echo"]))
+        node = rclpy.create_node("bench_ping")
+        executor.add_node(node)
+        rtt = round_trip(executor, node, args.round_trips)
+        stop(procs)
+        procs.clear()
+        t_rtt = statistics.mean(rtt)
+
+        # 3. the graph
+        procs.append(start(["-m", "econet_ros.nodes.world_node"]))
+        procs.append(start(["-m", "econet_ros.nodes.controller_node"]))
+        sup = SupervisorNode()
+        sup.executor_ = executor
+        executor.add_node(sup)
+        sup._wait_for_graph()
+        sup.test_generation(genomes, 1, 1, 0)              # warm up (first big messages)
+        graph = []
+        for g in range(args.generations):
+            t0 = time.perf_counter()
+            result = sup.test_generation(genomes, 1, 1, g)
+            graph.append(time.perf_counter() - t0)
+            if not np.array_equal(result.fitness, expected[g]):
+                raise SystemExit(f"bench_graph: error: generation {g}: graph fitness differs "
+                                 "from the in-process engine")
+        t_graph = statistics.median(graph)
+    finally:
+        stop(procs)
+        rclpy.try_shutdown()
+
+    floor = t_in + args.cycles * t_rtt
+    target = t_in + 2 * args.cycles * t_rtt
+    ms = 1000.0
+    print(f"in-process generation      {t_in * ms:8.1f} ms  (median of {args.generations})")
+    print(f"bare round trip            {t_rtt * ms:8.3f} ms  (mean of {args.round_trips}; "
+          f"median {statistics.median(rtt) * ms:.3f} ms)")
+    print(f"graph generation           {t_graph * ms:8.1f} ms  (median of {args.generations}; "
+          f"fitness identical to in-process)")
+    print(f"floor = in-process + {args.cycles} x round trip = {floor * ms:.1f} ms; graph is "
+          f"{(t_graph - floor) * ms:+.1f} ms ({t_graph / floor:.2f}x) above it")
+    print(f"target = in-process + 2 x {args.cycles} round trips = {target * ms:.1f} ms: "
+          f"{'MET' if t_graph <= target else 'MISSED'} "
+          f"(overhead {(t_graph - t_in) / (args.cycles * t_rtt):.2f} round trips per cycle)")
+    whole = args.run_generations * t_graph
+    print(f"projected {args.run_generations}-generation run through the graph: {whole:.0f} s "
+          f"(in-process {args.run_generations * t_in:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

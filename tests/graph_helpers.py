@@ -1,0 +1,72 @@
+"""Starting graph nodes as separate OS processes for the tests, and talking to them."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+class Processes:
+    """Node processes of one test module; every one is killed at the end, even on failure."""
+
+    def __init__(self, log_dir: Path):
+        self.log_dir = Path(log_dir)
+        self.procs: list[tuple[subprocess.Popen, Path]] = []
+
+    def start(self, node: str, namespace: str, *params: str, name: str | None = None):
+        args = [sys.executable, "-m", f"econet_ros.nodes.{node}_node", "--ros-args",
+                "-r", f"__ns:={namespace}"]
+        for param in params:
+            args += ["-p", param]
+        log = self.log_dir / f"{name or node}-{namespace.strip('/')}-{len(self.procs)}.log"
+        handle = open(log, "w")
+        proc = subprocess.Popen(args, cwd=REPO, stdout=handle, stderr=subprocess.STDOUT,
+                                stdin=subprocess.DEVNULL, start_new_session=True)
+        handle.close()
+        self.procs.append((proc, log))
+        return proc, log
+
+    def kill(self, proc: subprocess.Popen, sig=signal.SIGINT) -> None:
+        if proc.poll() is None:
+            os.killpg(proc.pid, sig)
+            try:
+                proc.wait(5)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+
+    def stop_all(self) -> None:
+        for proc, _ in self.procs:
+            if proc.poll() is None:
+                os.killpg(proc.pid, signal.SIGINT)
+        for proc, _ in self.procs:
+            self.kill(proc, signal.SIGKILL) if _waited(proc) else None
+
+
+def _waited(proc) -> bool:
+    try:
+        proc.wait(5)
+        return False
+    except subprocess.TimeoutExpired:
+        return True
+
+
+def spin_until(executor, done, timeout: float = 30.0, what: str = "condition") -> None:
+    """Spin until done() is true; fail the test (not hang) after a generous timeout."""
+    deadline = time.monotonic() + timeout
+    while not done():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        executor.spin_once(timeout_sec=0.05)
+
+
+def call(executor, client, request, timeout: float = 30.0):
+    spin_until(executor, client.service_is_ready, timeout, f"service {client.srv_name}")
+    future = client.call_async(request)
+    spin_until(executor, future.done, timeout, f"reply from {client.srv_name}")
+    return future.result()
