@@ -166,17 +166,12 @@ class RandomMovement(Controller):
         return CompiledPolicy(motor_table=self._rng.random((cycles, self.n_envs, N_MOTOR)))
 
 
-BUILTIN = {"normal": FourLayerNetwork, "three-layer": ThreeLayerNetwork,
-           "random": RandomMovement}
+def make_controller(name: str, n_envs: int, config: Config) -> Controller:
+    """A controller by name: a paper condition ('normal', 'three-layer', 'random'), any other
+    registered plug-in (e.g. 'reacher'), or 'module:Class' (see econet_ros.plugins)."""
+    from .plugins import resolve   # plugins imports this module
 
-
-def make_controller(condition: str, n_envs: int, config: Config) -> Controller:
-    """The controller the paper uses for a condition."""
-    try:
-        return BUILTIN[condition](n_envs, config)
-    except KeyError:
-        raise ValueError(f"unknown condition '{condition}' "
-                         f"(choose from {', '.join(BUILTIN)})") from None
+    return resolve(name)(n_envs, config)
 
 
 @numba.njit(cache=True, inline="always")

@@ -74,7 +74,7 @@ def test_network_weight_count_and_refusals():
     assert make_controller("three-layer", 4, CONFIG).n_params == 13 * 8 + 8 * 5
     with pytest.raises(ValueError, match="dividing 4"):
         net.load(np.zeros((3, net.n_params)))
-    with pytest.raises(ValueError, match="unknown condition"):
+    with pytest.raises(ValueError, match="unknown controller"):
         make_controller("five-layer", 4, CONFIG)
 
 
