@@ -30,6 +30,14 @@ setup(
             'world_node = econet_ros.nodes.world_node:main',
             'controller_node = econet_ros.nodes.controller_node:main',
             'supervisor_node = econet_ros.nodes.supervisor_node:main',
+            'recorder_node = econet_ros.nodes.recorder_node:main',
+        ],
+        # Controllers by name (econet_ros.plugins.BUILTIN); other packages add their own here.
+        'econet_ros.controllers': [
+            'normal = econet_ros.controllers:FourLayerNetwork',
+            'three-layer = econet_ros.controllers:ThreeLayerNetwork',
+            'random = econet_ros.controllers:RandomMovement',
+            'reacher = econet_ros.reacher:HandWrittenReacher',
         ],
     },
 )

@@ -340,5 +340,5 @@ def test_bad_parameter_is_one_line_error(tmp_path):
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
-        "controller_node: error: network must be one of normal, three-layer, random, "
-        "got 'five-layer'"]
+        "controller_node: error: unknown controller 'five-layer': not a registered name "
+        "(normal, random, reacher, three-layer) and not module:Class"]

@@ -24,15 +24,21 @@ MARKERS = "markers"
 PROGRESS = "progress"
 RESET_TRIALS = "reset_trials"
 SET_WEIGHTS = "set_weights"
+TRIAL_START = "trial_start"
 
-# Lockstep topics: reliable (a lost message would stall the loop) and deep enough that a burst
-# of cycles, e.g. a slow subscriber catching up, never overwrites an undelivered message.
-LOCKSTEP_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=50,
+# Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher keeps
+# each message until every reader (controller, supervisor, a recorder) has it, instead of
+# overwriting it when a slow reader falls behind.
+LOCKSTEP_QOS = QoSProfile(history=HistoryPolicy.KEEP_ALL,
                           reliability=ReliabilityPolicy.RELIABLE)
 # Progress: late joiners get the latest generations too.
 PROGRESS_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                           reliability=ReliabilityPolicy.RELIABLE,
                           durability=DurabilityPolicy.TRANSIENT_LOCAL)
+# Trial starts: a recorder that joins mid-trial still learns how the current trial started.
+TRIAL_START_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                             reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
 # Display topics: only the newest picture matters.
 DISPLAY_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5,
                          reliability=ReliabilityPolicy.RELIABLE)

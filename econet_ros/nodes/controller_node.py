@@ -1,5 +1,6 @@
-"""The controller node: a batch of econet networks (econet_ros.controllers) answering each
-cycle's sensors with muscle commands.
+"""The controller node: a batch of controllers (econet_ros.controllers: the paper's networks,
+random movement, the hand-written reacher, or any plug-in by name or module:Class) answering
+each cycle's sensors with muscle commands.
 
 Subscribes  retina, proprioception, touch (econet_msgs)
 Publishes   muscle_command (econet_msgs/MuscleCommand), once per complete non-final cycle
@@ -15,8 +16,7 @@ from rclpy.node import Node
 from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
 from econet_msgs.srv import SetWeights
 
-from ..config import CONDITIONS
-from ..controllers import make_controller
+from ..plugins import PluginError, resolve
 from ..world import N_PROPRIO, Observation, World
 from . import common
 from .common import NodeError
@@ -28,8 +28,14 @@ MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sens
 class ControllerNode(Node):
     def __init__(self):
         super().__init__("controller")
-        self.network = common.declare(self, "network", "normal",
-                                      "network: normal (four-layer), three-layer, random")
+        chosen = common.declare(self, "controller", "",
+                                "controller: a registered name (normal, three-layer, random, "
+                                "reacher, or a plug-in's entry point) or module:Class; empty = "
+                                "the network parameter")
+        network = common.declare(self, "network", "normal",
+                                 "older name of the controller parameter (used when controller "
+                                 "is empty)")
+        self.network = chosen or network
         config_path = common.declare(self, "config", "",
                                      "JSON config file (as econet --config); its model and "
                                      "network sections size the network; empty = defaults")
@@ -39,14 +45,18 @@ class ControllerNode(Node):
         self.max_abs = common.declare(self, "max_abs_weight",
                                       float(self.config.evolution.weight_range),
                                       "set_weights refuses weights beyond +-this value")
-        if self.network not in CONDITIONS:
-            raise NodeError(f"network must be one of {', '.join(CONDITIONS)}, "
-                            f"got '{self.network}'")
         if n_envs < 1:
             raise NodeError(f"n_envs must be at least 1, got {n_envs}")
-        self.controller = make_controller(self.network, n_envs, self.config)
-        # compile (or load) the network's kernel now, not in the first timed cycle
-        make_controller(self.network, 1, self.config).act(World(1, self.config.model).observe())
+        try:
+            self.cls = resolve(self.network)
+            self.controller = self.cls(n_envs, self.config)
+            # compile (or load) the network's kernel now, not in the first timed cycle
+            self.cls(1, self.config).act(World(1, self.config.model).observe())
+        except PluginError as error:
+            raise NodeError(str(error)) from None
+        except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
+            raise NodeError(f"controller '{self.network}' failed to start: "
+                            f"{type(error).__name__}: {error}") from None
         self.pending: dict[tuple[int, int], dict] = {}
         self.answered = (-1, -1)
 
@@ -59,7 +69,8 @@ class ControllerNode(Node):
         self.create_subscription(Touch, common.TOUCH, lambda msg: self._on_part("touch", msg),
                                  qos)
         self.create_service(SetWeights, common.SET_WEIGHTS, self._on_set_weights)
-        self.get_logger().info(f"controller ready: {self.network} network, "
+        self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
+                               f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")
 
     # -- weights ------------------------------------------------------------------------------
@@ -70,11 +81,15 @@ class ControllerNode(Node):
             self.get_logger().error(f"set_weights refused: {problem}")
             return response
         n, k = int(request.n_envs), int(request.weights_per_network)
-        weights = common.as_f64(request.weights).reshape(-1, k)
+        weights = common.as_f64(request.weights).reshape(-1, k) if k else None
         controller = self.controller
         if controller.n_envs != n:
-            controller = make_controller(self.network, n, self.config)
-        controller.load(weights, int(request.noise_seed))
+            controller = self.cls(n, self.config)
+        try:
+            controller.load(weights if k else np.zeros((n, 0)), int(request.noise_seed))
+        except ValueError as error:
+            response.success, response.message = False, f"the controller refused: {error}"
+            return response
         self.controller = controller
         response.success = True
         response.message = f"loaded weights for {n} environment(s) x {k}"
@@ -91,6 +106,9 @@ class ControllerNode(Node):
                     f"{self.network} network has {expected} weights")
         if request.n_envs < 1:
             return "n_envs must be at least 1"
+        if expected == 0:       # nothing to load (e.g. the reacher): only the batch size
+            return None if not len(request.weights) else \
+                f"the {self.network} controller takes no weights, got {len(request.weights)}"
         networks, left = divmod(len(request.weights), max(expected, 1))
         if left or not networks or request.n_envs % networks:
             return (f"got {len(request.weights)} weights: expected n_networks x "

@@ -7,18 +7,26 @@ the same result folders as `econet evolve` (econet_ros.results.RunStore); a gene
 written only once it is complete, so an interrupted one is simply tested again (generations are
 deterministic).
 
-Subscribes  touch (econet_msgs/Touch)
+With record_every = N > 0 it also records the best econet of generations 0, N, 2N, ... and the
+last one: after the generation is written it runs that econet's trials once more (same starts,
+same weights, same noise seed) with every lockstep and display topic recorded into a rosbag2
+bag, <record_dir>/run-RR/gen-GGGG (see econet_ros.bags).
+
+Subscribes  touch (econet_msgs/Touch); when recording also trial_start, retina,
+            proprioception, muscle_command, joint_states, markers (raw)
 Publishes   progress (econet_msgs/EvolutionProgress), one message per finished generation
 Calls       set_weights (econet_msgs/SetWeights), reset_trials (econet_msgs/ResetTrials)
 """
 from __future__ import annotations
 
+import json
 import shutil
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+from rclpy.duration import Duration
 from rclpy.node import Node
 
 from econet_msgs.msg import EvolutionProgress, Touch
@@ -28,6 +36,7 @@ from .. import genome
 from ..cli import UsageError, check_writable
 from ..config import CONDITIONS, Config, ConfigError
 from ..engine import TrialMeasures
+from ..plugins import PluginError, resolve
 from ..evolution import (Evaluator, GenerationResult, initial_genomes, next_generation,
                          noise_seed, score_generation)
 from ..experiment import run_folder, summarize
@@ -63,10 +72,18 @@ class SupervisorNode(Node):
             "seed": (1, "base random seed; a run is a pure function of it"),
             "runs": (1, "independent runs, written to out/run-01, run-02, ..."),
             "out": ("results/graph", "output folder (same layout as econet evolve --out)"),
+            "controller": ("", "controller the controller node runs, if not the condition's "
+                               "network: a registered name or module:Class (its n_params "
+                               "sizes the genomes)"),
+            "record_every": (0, "record the best econet's trials as a bag every this many "
+                                "generations (and the last); 0 = never"),
+            "record_dir": ("", "folder of the bags; empty = <out>/bags"),
             "overwrite": (False, "delete out/run-* first instead of resuming them"),
             "stall_timeout_sec": (3.0, "test a generation again when no cycle arrives for this "
                                        "long"),
             "service_timeout_sec": (5.0, "wait this long for a service reply before retrying"),
+            "linger_sec": (1.0, "stay this long after the last generation so that late "
+                                "monitors receive the final progress messages"),
         }
         v = {name: common.declare(self, name, default, text)
              for name, (default, text) in p.items()}
@@ -87,7 +104,21 @@ class SupervisorNode(Node):
             check_writable(self.out)
         except UsageError as error:
             raise NodeError(str(error)) from None
-        self.evaluator = Evaluator(self.config)   # the core's trial starts and weight count
+        self.network = v["controller"] or v["condition"]
+        try:
+            controller = resolve(self.network)(1, self.config) if v["controller"] else None
+        except PluginError as error:
+            raise NodeError(str(error)) from None
+        if v["record_every"] < 0:
+            raise NodeError(f"record_every must be 0 or more, got {v['record_every']}")
+        # the core's trial starts and weight count
+        self.evaluator = Evaluator(self.config, controller=controller)
+        self.record_dir = Path(v["record_dir"]) if v["record_dir"] else self.out / "bags"
+        self.recorder = None
+        self._recorded_trial = -1
+        if v["record_every"]:
+            from .recording import TopicRecorder
+            self.recorder = TopicRecorder(self)
 
         self.touch: dict[int, dict[int, np.ndarray]] = {}   # trial -> cycle -> contact
         self.last_touch = time.monotonic()
@@ -155,23 +186,93 @@ class SupervisorNode(Node):
         weights_request = SetWeights.Request(
             n_envs=len(setup), weights_per_network=weights.shape[1],
             weights=common.f64(weights), noise_seed=noise_seed(seed, run, generation),
-            network=e.condition)
+            network=self.network)
         reset_request = ResetTrials.Request(
             n_envs=len(setup), cycles=e.cycles, seed=0, object_xy=common.f64(setup.object_xy),
             body_deg=common.f64(setup.body), shoulder_deg=common.f64(setup.shoulder),
             elbow_deg=common.f64(setup.elbow))
+        contact = self._retrying(weights_request, reset_request, e.cycles, run, generation)
+        return score_generation(self.config, generation, genomes,
+                                TrialMeasures.from_contact(contact))
+
+    def _retrying(self, weights_request, reset_request, cycles, run, generation, bag=None,
+                  custom=None) -> np.ndarray:
+        """_run_trials until it succeeds; with ``bag``, record the attempt that does (into
+        bag.partial, renamed to bag once complete)."""
         attempt = 0
         while True:
             attempt += 1
+            partial = bag.with_name(bag.name + ".partial") if bag else None
             try:
-                contact = self._run_trials(weights_request, reset_request, e.cycles)
-                break
+                if partial:
+                    shutil.rmtree(partial, ignore_errors=True)
+                    partial.parent.mkdir(parents=True, exist_ok=True)
+                    # messages of trials before the next reset are stragglers (a retry may
+                    # follow a restarted world, whose trials count from 1 again)
+                    self.recorder.start(partial, custom, min_trial=self._recorded_trial + 1 if attempt == 1 else 0)
+                contact = self._run_trials(weights_request, reset_request, cycles)
+                if partial:
+                    self._finish_recording(cycles)
+                    self.recorder.stop()
+                    partial.rename(bag)
+                return contact
             except GenerationFailed as why:
                 self.get_logger().warning(f"run {run} generation {generation}: {why}; testing "
-                                          f"the generation again (attempt {attempt + 1})")
+                                          f"the {'recording' if bag else 'generation'} again "
+                                          f"(attempt {attempt + 1})")
                 self._wait_for_graph()
-        return score_generation(self.config, generation, genomes,
-                                TrialMeasures.from_contact(contact))
+            finally:
+                if self.recorder is not None:
+                    self.recorder.stop()
+
+    # -- recording --------------------------------------------------------------------------------
+    def _should_record(self, generation: int) -> bool:
+        every = self.v["record_every"]
+        return bool(every) and (generation % every == 0
+                                or generation == self.config.evolution.generations - 1)
+
+    def record_best(self, result: GenerationResult, seed: int, run: int) -> Path | None:
+        """Run the generation's best econet's trials again, recording them into a bag."""
+        e = self.config.evolution
+        generation = result.generation
+        bag = self.record_dir / f"run-{run:02d}" / f"gen-{generation:04d}"
+        if bag.exists():
+            return None                         # recorded before an interruption
+        best = int(result.parents[0])
+        envs = np.arange(best * e.trials, (best + 1) * e.trials)
+        setup = self.evaluator.trial_setups(seed, run, generation).take(envs)
+        weights = genome.decode(result.genomes[best:best + 1], e.bits_per_weight,
+                                e.weight_range)
+        weights_request = SetWeights.Request(
+            n_envs=len(setup), weights_per_network=weights.shape[1],
+            weights=common.f64(weights), noise_seed=noise_seed(seed, run, generation),
+            network=self.network)
+        reset_request = ResetTrials.Request(
+            n_envs=len(setup), cycles=e.cycles, seed=0, object_xy=common.f64(setup.object_xy),
+            body_deg=common.f64(setup.body), shoulder_deg=common.f64(setup.shoulder),
+            elbow_deg=common.f64(setup.elbow))
+        scored = result.measures.fitness[best]
+        custom = {"econet.source": "supervisor_node", "econet.run": str(run),
+                  "econet.generation": str(generation), "econet.econet": str(best),
+                  "econet.controller": self.network, "econet.seed": str(seed),
+                  "econet.scored_fitness": json.dumps([int(x) for x in scored]),
+                  "econet.note": "the generation's best econet, its trials run once more"}
+        self._retrying(weights_request, reset_request, e.cycles, run, generation, bag, custom)
+        self.get_logger().info(f"run {run} generation {generation}: recorded econet {best}'s "
+                               f"{len(setup)} trials into {bag}")
+        return bag
+
+    def _finish_recording(self, cycles: int) -> None:
+        """After the last touch: wait until the trial's other sensor messages are recorded."""
+        trial, heard = self._recorded_trial, self.recorder.heard
+
+        def done():
+            return all(heard[part, trial] >= cycles + 1
+                       for part in ("retina", "proprioception", "touch")) and \
+                heard["muscle_command", trial] >= cycles
+        if not self._spin_until(done, self.v["service_timeout_sec"]):
+            raise GenerationFailed("the recording missed messages of the trial")
+        self._spin_until(lambda: False, 0.2)     # the last display pictures
 
     def _run_trials(self, weights_request, reset_request, cycles: int) -> np.ndarray:
         """(cycles, n_envs) contact history of one batch of trials, heard on `touch`."""
@@ -183,6 +284,7 @@ class SupervisorNode(Node):
         if not reply.success:
             raise Refused(f"the world refused the reset: {reply.message}")
         trial = reply.trial
+        self._recorded_trial = trial
         for other in [t for t in self.touch if t != trial]:
             del self.touch[other]
         self.last_touch = time.monotonic()
@@ -241,6 +343,8 @@ class SupervisorNode(Node):
                 result = self.test_generation(genomes, seed, run, generation)
                 offspring = next_generation(config, result, seed, run)
                 store.write(result, offspring)
+                if self._should_record(generation):
+                    self.record_best(result, seed, run)
                 seconds = time.monotonic() - start
                 fitness = result.fitness
                 top = float(fitness[result.parents].mean())
@@ -255,6 +359,11 @@ class SupervisorNode(Node):
                     f"{float(fitness.mean()):.1f} ({seconds:.2f} s)")
                 genomes, generation = offspring, generation + 1
         self.get_logger().info(summarize(self.out, runs).replace("\n", " |"))
+        # Stay a moment so that monitors, including ones that match only now, receive the last
+        # progress messages (the transient-local history goes away with the process).
+        self.pub_progress.wait_for_all_acked(Duration(seconds=2.0))
+        self._spin_until(lambda: False, self.v["linger_sec"])
+        self.pub_progress.wait_for_all_acked(Duration(seconds=2.0))
         return 0
 
 

@@ -1,7 +1,7 @@
 """The world node: owns a batch of econet environments (econet_ros.world.World) and runs them
 in lockstep with a controller, or free-running at a fixed rate for demonstrations.
 
-Publishes   retina (econet_msgs/Retina), proprioception (econet_msgs/Proprioception),
+Publishes   trial_start (econet_msgs/TrialStart) at every reset, retina (econet_msgs/Retina), proprioception (econet_msgs/Proprioception),
             touch (econet_msgs/Touch) once per cycle; joint_states (sensor_msgs/JointState) and
             markers (visualization_msgs/MarkerArray) for one display environment, throttled
 Subscribes  muscle_command (econet_msgs/MuscleCommand)
@@ -19,9 +19,10 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker, MarkerArray
 
-from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch, TrialStart
 from econet_msgs.srv import ResetTrials
 
+from ..bags import model_json
 from ..world import N_MOTOR, Observation, TrialSetup, World, reach_error, sample_setups
 from . import common
 from .common import NodeError
@@ -76,6 +77,9 @@ class WorldNode(Node):
         self.pub_retina = self.create_publisher(Retina, common.RETINA, qos)
         self.pub_proprio = self.create_publisher(Proprioception, common.PROPRIOCEPTION, qos)
         self.pub_touch = self.create_publisher(Touch, common.TOUCH, qos)
+        self.pub_start = self.create_publisher(TrialStart, common.TRIAL_START,
+                                               common.TRIAL_START_QOS)
+        self.model_json = model_json(self.model)
         self.pub_joints = self.create_publisher(JointState, common.JOINT_STATES,
                                                 common.DISPLAY_QOS)
         self.pub_markers = self.create_publisher(MarkerArray, common.MARKERS, common.DISPLAY_QOS)
@@ -95,6 +99,13 @@ class WorldNode(Node):
         self.trial += 1
         self.limit = cycles
         self.started = True
+        w = self.world
+        self.pub_start.publish(TrialStart(
+            trial=self.trial, cycles=max(int(cycles), 0), n_envs=w.n_envs,
+            lockstep=self.mode == "lockstep",
+            object_xy=common.f64(w.object_xy), body_deg=common.f64(w.body),
+            shoulder_deg=common.f64(w.shoulder), elbow_deg=common.f64(w.elbow),
+            model_json=self.model_json))
         self._publish(self.world.observe())
 
     def _new_free_trial(self) -> None:

@@ -1,0 +1,74 @@
+"""The recorder node: writes the graph's lockstep and display topics to a rosbag2 bag (MCAP,
+metadata.yaml version 9) while it runs, for graphs started by hand (``ros2 bag record`` is not
+available from PyPI; on a ROS 2 machine ``ros2 bag record`` of the same topics works too).
+
+Subscribes  trial_start, retina, proprioception, touch, muscle_command, joint_states, markers
+            (or the `topics` parameter's subset), raw: messages are stored as they arrive
+
+Ctrl-C or SIGTERM closes the bag, which then opens and holds everything recorded before.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import rclpy
+from rclpy.node import Node
+
+from ..bags import BagError
+from . import common
+from .common import NodeError
+from .recording import ALL_TOPICS, TopicRecorder
+
+
+class RecorderNode(Node):
+    def __init__(self):
+        super().__init__("recorder")
+        out = common.declare(self, "out", "",
+                             "bag folder to create (must not exist); empty = "
+                             "bags/econet-YYYYmmdd-HHMMSS")
+        topics = common.declare(self, "topics", ",".join(ALL_TOPICS),
+                                "comma-separated topics to record (relative names)")
+        self.out = Path(out or time.strftime("bags/econet-%Y%m%d-%H%M%S"))
+        if self.out.exists():
+            raise NodeError(f"bag {self.out} exists already (a bag is a new folder)")
+        names = [t.strip() for t in topics.split(",") if t.strip()]
+        if not names:
+            raise NodeError("topics is empty")
+        self.recorder = TopicRecorder(self, names)
+        try:
+            self.out.parent.mkdir(parents=True, exist_ok=True)
+            self.recorder.start(self.out, {"econet.source": "recorder_node"})
+        except (BagError, OSError) as error:
+            raise NodeError(str(error)) from None
+        self.get_logger().info(f"recording {', '.join(names)} to {self.out}")
+
+
+def _body(node: RecorderNode, executor) -> int:
+    try:
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=0.2)
+    finally:
+        node.recorder.stop()          # Ctrl-C, SIGTERM (rclpy's handler shuts down) or error
+        print(f"recorder_node: bag closed: {node.out}", file=sys.stderr)
+    return 0
+
+
+def main(args: list[str] | None = None) -> int:
+    node_holder = {}
+
+    def make():
+        node_holder["node"] = RecorderNode()
+        return node_holder["node"]
+
+    try:
+        return common.run_node("recorder_node", make, args, body=_body)
+    finally:
+        node = node_holder.get("node")
+        if node is not None:
+            node.recorder.stop()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,197 @@
+"""Controllers by name: the installed entry points, the hand-written reacher, a controller from a
+package outside econet_ros (tests/plugin_example) through the command line and the controller
+node, and one-line errors for names that do not resolve."""
+import os
+import subprocess
+import sys
+from importlib.metadata import distribution
+
+import numpy as np
+import pytest
+
+from econet_ros.cli import main
+from econet_ros.config import Config
+from econet_ros.engine import run_trials
+from econet_ros.plugins import BUILTIN, GROUP
+from econet_ros.world import World, sample_setups
+
+from graph_helpers import REPO, Processes, call, spin_until
+
+PLUGIN_DIR = REPO / "tests" / "plugin_example"
+
+
+def with_plugin_env() -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = f"{PLUGIN_DIR}{os.pathsep}{env.get('PYTHONPATH', '')}"
+    return env
+
+
+def test_installed_metadata_registers_exactly_the_builtins():
+    eps = {ep.name: ep.value for ep in distribution("econet_ros").entry_points
+           if ep.group == GROUP}
+    assert eps == BUILTIN
+
+
+def test_reacher_reaches_the_object_in_most_trials():
+    config = Config()
+    n = 60
+    world = World(n, config.model)
+    from econet_ros.controllers import make_controller
+    measures, _ = run_trials(world, make_controller("reacher", n, config),
+                             sample_setups(np.random.default_rng(11), n, config.model), 100)
+    assert measures.success.mean() >= 0.75, measures.success.mean()
+    assert measures.fitness.mean() > 30     # it stays on the object once there
+
+
+@pytest.mark.parametrize("name, fragment", [
+    ("nope", "unknown controller 'nope': not a registered name"),
+    ("no_such_module_xyz:Thing", "cannot import module 'no_such_module_xyz'"),
+    ("econet_ros.reacher:Missing", "has no 'Missing'"),
+    ("os:getcwd", "is not a subclass of econet_ros.controllers.Controller"),
+    ("econet_ros.controllers:Controller", "does not implement act"),
+])
+def test_bad_controller_names_are_one_line_errors(capsys, name, fragment):
+    status = main(["evaluate", "--controller", name, "--trials", "2"])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err.count("\n") == 1 and err.startswith("econet: error:"), err
+    assert fragment in err
+
+
+def test_outside_package_controller_through_the_command_line(tmp_path):
+    run = lambda *args, env=None: subprocess.run(  # noqa: E731
+        [sys.executable, "-m", "econet_ros", *args], cwd=REPO, env=env, capture_output=True,
+        text=True, timeout=120)
+    evaluated = run("evaluate", "--controller", "example-linear", "--trials", "4", "--cycles",
+                    "10", env=with_plugin_env())
+    assert evaluated.returncode == 0, evaluated.stderr
+    assert "econet_plugin_example:LinearController" in evaluated.stdout
+    assert "success      " in evaluated.stdout
+
+    out = tmp_path / "evolved"
+    evolved = run("evolve", "--controller", "example-linear", "--runs", "1", "--generations",
+                  "2", "--population", "4", "--parents", "2", "--trials", "2", "--cycles", "10",
+                  "--quiet", "--out", str(out), env=with_plugin_env())
+    assert evolved.returncode == 0, evolved.stderr
+    assert '"controller": "example-linear"' in (out / "run-01" / "controller.json").read_text()
+    assert np.load(out / "run-01" / "genomes.npy").shape == (3, 4, 65)   # the plug-in's size
+
+    missing = run("evaluate", "--controller", "example-linear")      # not on the path
+    assert missing.returncode == 2
+    assert missing.stderr.count("\n") == 1 and "unknown controller 'example-linear'" in \
+        missing.stderr
+
+
+# -- through the graph ------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def ros(tmp_path_factory):
+    saved = os.environ.get("ROS_DOMAIN_ID")
+    os.environ["ROS_DOMAIN_ID"] = str(215 + os.getpid() % 15)   # distinct from other modules
+    import rclpy
+    from econet_ros.nodes import common
+
+    rclpy.init()
+    procs = Processes(tmp_path_factory.mktemp("plugin-logs"))
+    executor = common.make_executor()
+    yield rclpy, executor, procs
+    procs.stop_all()
+    for node in list(executor.get_nodes()):     # leave no participant behind for later modules
+        executor.remove_node(node)
+        node.destroy_node()
+    executor.shutdown()
+    rclpy.try_shutdown()
+    if saved is None:
+        os.environ.pop("ROS_DOMAIN_ID", None)
+    else:
+        os.environ["ROS_DOMAIN_ID"] = saved
+
+
+def test_outside_package_controller_through_the_node(ros):
+    rclpy, executor, procs = ros
+    from econet_msgs.msg import MuscleCommand
+    from econet_msgs.srv import ResetTrials, SetWeights
+    from econet_ros.nodes import common
+    sys.path.insert(0, str(PLUGIN_DIR))
+    try:
+        from econet_plugin_example import LinearController
+    finally:
+        sys.path.remove(str(PLUGIN_DIR))
+
+    ns = "/plug"
+    procs.start("world", ns)
+    saved = os.environ.get("PYTHONPATH", "")
+    os.environ["PYTHONPATH"] = with_plugin_env()["PYTHONPATH"]
+    try:
+        _, log = procs.start("controller", ns, "controller:=example-linear")
+    finally:
+        os.environ["PYTHONPATH"] = saved
+    node = rclpy.create_node("plug_probe", namespace=ns)
+    executor.add_node(node)
+    commands = []
+    node.create_subscription(MuscleCommand, "muscle_command", commands.append,
+                             common.LOCKSTEP_QOS)
+    config = Config()
+    n = 3
+    weights = np.random.default_rng(4).uniform(-2, 2, (n, 65))
+    reply = call(executor, node.create_client(SetWeights, "set_weights"), SetWeights.Request(
+        n_envs=n, weights_per_network=65, weights=common.f64(weights),
+        network="example-linear"))
+    assert reply.success, reply.message
+    reset = call(executor, node.create_client(ResetTrials, "reset_trials"),
+                 ResetTrials.Request(n_envs=n, cycles=5, seed=8))
+    assert reset.success, reset.message
+    spin_until(executor, lambda: sum(c.trial == reset.trial for c in commands) >= 5,
+               what="five commands from the plug-in")
+    got = [c for c in commands if c.trial == reset.trial]
+    assert [c.cycle for c in got] == [0, 1, 2, 3, 4]
+    # the same controller in process, on the same trial, gives the same commands
+    world = World(n, config.model)
+    obs = world.reset(sample_setups(np.random.default_rng(8), n, config.model))
+    controller = LinearController(n, config)
+    controller.load(weights)
+    for command in got:
+        motor = controller.act(obs)
+        assert np.array_equal(common.as_f64(command.activation).reshape(n, 5), motor)
+        obs = world.step(motor)
+    assert "econet_plugin_example:LinearController" in log.read_text()
+
+
+def test_reacher_through_the_graph_and_bad_name_at_the_node(ros):
+    rclpy, executor, procs = ros
+    from econet_msgs.msg import Touch
+    from econet_msgs.srv import ResetTrials, SetWeights
+    from econet_ros.engine import TrialMeasures
+    from econet_ros.nodes import common
+
+    bad, bad_log = procs.start("controller", "/badname", "controller:=no-such-thing")
+    assert bad.wait(60) == 2
+    lines = [line for line in bad_log.read_text().splitlines() if line.strip()]
+    assert lines == ["controller_node: error: unknown controller 'no-such-thing': not a "
+                     "registered name (normal, random, reacher, three-layer) and not "
+                     "module:Class"]
+
+    ns = "/reach"
+    procs.start("world", ns)
+    procs.start("controller", ns, "controller:=reacher")
+    node = rclpy.create_node("reach_probe", namespace=ns)
+    executor.add_node(node)
+    touch = {}
+    node.create_subscription(Touch, "touch", lambda m: touch.setdefault(
+        (m.trial, m.cycle), common.as_u8(m.contact).copy()), common.LOCKSTEP_QOS)
+    n, cycles = 12, 100
+    reply = call(executor, node.create_client(SetWeights, "set_weights"), SetWeights.Request(
+        n_envs=n, weights_per_network=0, network="reacher"))
+    assert reply.success, reply.message
+    reset = call(executor, node.create_client(ResetTrials, "reset_trials"),
+                 ResetTrials.Request(n_envs=n, cycles=cycles, seed=21))
+    spin_until(executor, lambda: (reset.trial, cycles) in touch, timeout=60,
+               what="the reacher's trial")
+    contact = np.array([touch[reset.trial, t] for t in range(1, cycles + 1)]) != 0
+    graph = TrialMeasures.from_contact(contact)
+    assert graph.success.mean() >= 0.75
+    config = Config()
+    from econet_ros.controllers import make_controller
+    local, _ = run_trials(World(n, config.model), make_controller("reacher", n, config),
+                          sample_setups(np.random.default_rng(21), n, config.model), cycles)
+    np.testing.assert_array_equal(graph.fitness, local.fitness)
