@@ -1,4 +1,6 @@
-"""The ``econet`` command line: ``econet evolve`` runs the paper's evolutionary experiment.
+"""The ``econet`` command line: ``econet evolve`` runs the paper's evolutionary experiment for one
+condition; ``econet study`` runs the whole reproduction (three conditions, analyses, figures,
+report); ``econet analyze`` re-makes the figures and report from existing study results.
 
 Every subcommand checks its input before any work starts and reports a problem in one line.
 """
@@ -6,9 +8,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from .config import CONDITIONS, Config, ConfigError, load_config
@@ -101,6 +105,54 @@ def _evolve(args: argparse.Namespace) -> int:
     return 0
 
 
+def _study(args: argparse.Namespace) -> int:
+    from .study import SENSITIVITY, StudySpec, run_study
+
+    config = experiment_config(args, "normal")
+    variants = {}
+    for name in args.sensitivity or []:
+        if name == "all":
+            variants.update(SENSITIVITY)
+        elif name in SENSITIVITY:
+            variants[name] = SENSITIVITY[name]
+        else:
+            raise UsageError(f"unknown sensitivity variant '{name}' (choose from "
+                             f"{', '.join(SENSITIVITY)}, all)")
+    for name, changes in variants.items():
+        config.replace(**changes)          # fail now on a variant that cannot work
+    out = Path(args.out)
+    check_writable(out)
+    if args.overwrite:
+        for sub in ("normal", "three-layer", "random", "sensitivity", "figures"):
+            shutil.rmtree(out / sub, ignore_errors=True)
+        (out / "study.json").unlink(missing_ok=True)
+    spec = StudySpec(config, args.runs, args.seed, variants,
+                     args.sensitivity_runs if variants else None)
+    seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
+    print(f"evolution: {seconds / 60:.1f} min")
+    return _analyze_folder(out, args.report, args.figures, quiet=args.quiet)
+
+
+def _analyze(args: argparse.Namespace) -> int:
+    return _analyze_folder(Path(args.results), args.report, args.figures, quiet=False)
+
+
+def _analyze_folder(out: Path, report: str | None, figures: str | None, quiet: bool) -> int:
+    from .report import build_report
+    from .study import StudyError
+
+    try:
+        started = time.time()
+        report_path, notes = build_report(out, Path(report) if report else None,
+                                          Path(figures) if figures else None)
+    except StudyError as error:
+        raise UsageError(str(error)) from None
+    for note in notes:
+        print(f"note: {note}")
+    print(f"report: {report_path} (analysis {time.time() - started:.0f} s)")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="econet", description=(
         "The econet model of infant reaching (Schlesinger, Parisi & Langer, 2000): evolve "
@@ -118,6 +170,41 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default: %(default)s)")
     add_experiment_options(evolve)
     evolve.set_defaults(handler=_evolve)
+
+    study = commands.add_parser(
+        "study", help="reproduce the paper: all three conditions, analyses, figures, report",
+        description="Run the normal, three-layer and random-movement conditions (--runs runs "
+                    "each), record per-generation behaviour statistics, then write figures and "
+                    "a report comparing every claim of the paper's Results section with our "
+                    "data. Re-running the same command resumes an interrupted study.")
+    study.add_argument("--out", default="results/study", help="results folder "
+                       "(default: %(default)s)")
+    study.add_argument("--jobs", type=_positive, default=max(1, min(os.cpu_count() or 1, 8)),
+                       help="worker processes (default: the number of CPUs, %(default)s)")
+    study.add_argument("--sensitivity", metavar="VARIANT", action="append",
+                       help="also run a sensitivity variant (hidden-2-2-4, hidden-8-8-16, "
+                            "object-radius-4, or all); repeatable; may be added to an "
+                            "existing study folder later")
+    study.add_argument("--sensitivity-runs", type=_positive, metavar="N",
+                       help="runs per sensitivity variant (default: --runs)")
+    study.add_argument("--report", metavar="FILE", help="report path (default: OUT/report.md)")
+    study.add_argument("--figures", metavar="DIR",
+                       help="figures folder (default: the report's folder/figures)")
+    add_experiment_options(study)
+    study.set_defaults(handler=_study)
+
+    analyze = commands.add_parser(
+        "analyze", help="re-make figures and report from an existing study folder",
+        description="Analyse the results of econet study (complete or partial: gaps are "
+                    "stated in the report) and write the figures and the report.")
+    analyze.add_argument("results", metavar="RESULTS_DIR", help="folder made by econet study")
+    analyze.add_argument("--report", metavar="FILE",
+                         help="report path (default: RESULTS_DIR/report.md)")
+    analyze.add_argument("--figures", metavar="DIR",
+                         help="figures folder (default: the report's folder/figures)")
+    analyze.set_defaults(handler=_analyze)
+    from . import bagtools  # econet bag ..., evaluate, evolve --controller (issue 4)
+    bagtools.add_commands(commands)
     return parser
 
 

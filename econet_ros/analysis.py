@@ -1,0 +1,320 @@
+"""Behaviour measures behind the paper's Figures 4-9 and the proprioceptive lesion, computed from
+an engine ``Trace`` (ROS-free, NumPy only). Definitions: docs/analysis.md.
+
+Conventions shared by every measure
+    cycle t      motor row t, chosen from the state in trace row t and leading to row t + 1.
+    pre-contact  cycle t is "before first contact" when the hand touched the object in none of
+                 rows 0..t (the cycle that makes the first contact still counts; trials without
+                 contact count in full).
+    group        a set of environments (e.g. the top 20 econets' trials); a group's value is
+                 pooled over all its qualifying cycles (a ratio of sums), NaN if there are none.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .config import Config
+from .engine import Trace, run_trials
+from .world import N_PROPRIO, TrialSetup, World
+
+SQRT2 = np.sqrt(2.0)
+MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
+SHOULDER, ELBOW = (1, 2), (3, 4)   # (flexor, extensor) columns of Trace.motor
+
+
+# -- masks ------------------------------------------------------------------------------------
+def pre_contact(trace: Trace) -> np.ndarray:
+    """(C, n) bool: cycle t happens before the first contact of its trial."""
+    touched = np.logical_or.accumulate(trace.touch, axis=0)   # rows 0..C
+    return ~touched[:-1]
+
+
+def econet_envs(econets: np.ndarray, trials: int) -> np.ndarray:
+    """Environment indices of the given econets (environment e = econet * trials + trial)."""
+    econets = np.asarray(econets, dtype=np.int64)
+    return (econets[:, None] * trials + np.arange(trials)[None, :]).ravel()
+
+
+def _pooled(values: np.ndarray, mask: np.ndarray) -> float:
+    count = int(mask.sum())
+    return float(values[mask].sum() / count) if count else float("nan")
+
+
+# -- Figures 4 and 5: flexion -------------------------------------------------------------------
+def flexion_percent(trace: Trace, joint: tuple[int, int], mask: np.ndarray | None = None) -> float:
+    """% of (pre-contact) cycles whose flexor output exceeds the extensor output."""
+    mask = pre_contact(trace) if mask is None else mask
+    flex = trace.motor[:, :, joint[0]] > trace.motor[:, :, joint[1]]
+    return 100.0 * _pooled(flex.astype(float), mask)
+
+
+def mean_angle(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
+    """Mean joint angle (degrees; 180 = extended) at the start of the (pre-contact) cycles."""
+    mask = pre_contact(trace) if mask is None else mask
+    return _pooled(getattr(trace, joint)[:-1], mask)
+
+
+# -- Figures 6 and 7: coactivation / reciprocal activation -----------------------------------
+def coactivation_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
+    """Distance of (f, e) from the line f = e (ideal coactivation): |f - e| / sqrt 2."""
+    return np.abs(flexor - extensor) / SQRT2
+
+
+def reciprocal_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
+    """Distance of (f, e) from the line f + e = 1 (ideal reciprocal activation)."""
+    return np.abs(flexor + extensor - 1.0) / SQRT2
+
+
+def activation_deviations(trace: Trace, joint: tuple[int, int],
+                          mask: np.ndarray | None = None) -> tuple[float, float]:
+    """(mean deviation from coactivation, from reciprocal activation) over pre-contact cycles."""
+    mask = pre_contact(trace) if mask is None else mask
+    f, e = trace.motor[:, :, joint[0]], trace.motor[:, :, joint[1]]
+    return (_pooled(coactivation_deviation(f, e), mask),
+            _pooled(reciprocal_deviation(f, e), mask))
+
+
+# -- Figures 8 and 9: approach movements and speeds -------------------------------------------
+def distance_change(trace: Trace) -> np.ndarray:
+    """(C, n): hand-object gap after the cycle minus before it."""
+    d = trace.hand_object_distance
+    return d[1:] - d[:-1]
+
+
+def hand_speed(trace: Trace) -> np.ndarray:
+    """(C, n): hand-tip displacement in the cycle (workspace units)."""
+    return np.linalg.norm(trace.hand[1:] - trace.hand[:-1], axis=-1)
+
+
+def eye_speed(trace: Trace) -> np.ndarray:
+    """(C, n): absolute body-axis (eye) rotation in the cycle (degrees)."""
+    return np.abs(trace.body[1:] - trace.body[:-1])
+
+
+def approach_probability(trace: Trace, fixated: bool | None,
+                         mask: np.ndarray | None = None) -> float:
+    """P(the gap shrinks in a cycle) over pre-contact cycles that start with the object fixated
+    (fixated=True), not fixated (False) or either (None)."""
+    mask = _fixation_mask(trace, fixated, mask)
+    return _pooled((distance_change(trace) < -MOVE_EPS).astype(float), mask)
+
+
+def away_probability(trace: Trace, fixated: bool | None, mask: np.ndarray | None = None) -> float:
+    """P(the gap grows in a cycle), same cycles as approach_probability."""
+    mask = _fixation_mask(trace, fixated, mask)
+    return _pooled((distance_change(trace) > MOVE_EPS).astype(float), mask)
+
+
+def mean_speed(trace: Trace, kind: str, fixated: bool | None,
+               mask: np.ndarray | None = None) -> float:
+    """Mean hand ('hand') or eye ('eye') speed over (pre-contact) cycles with the given fixation."""
+    mask = _fixation_mask(trace, fixated, mask)
+    speed = hand_speed(trace) if kind == "hand" else eye_speed(trace)
+    return _pooled(speed, mask)
+
+
+def _fixation_mask(trace: Trace, fixated: bool | None, mask: np.ndarray | None) -> np.ndarray:
+    mask = pre_contact(trace) if mask is None else mask
+    if fixated is None:
+        return mask
+    fix = trace.fixated[:-1]
+    return mask & (fix if fixated else ~fix)
+
+
+# -- one row per generation --------------------------------------------------------------------
+BEHAVIOUR_COLUMNS = [
+    "generation",
+    # Figures 4/5 (all econets, pre-contact)
+    "all_shoulder_flexion", "all_elbow_flexion", "all_shoulder_angle", "all_elbow_angle",
+    "top_shoulder_flexion", "top_elbow_flexion", "top_shoulder_angle",
+    # Figures 6/7 (top 20, pre-contact)
+    "top_shoulder_coact", "top_shoulder_recip", "top_elbow_coact", "top_elbow_recip",
+    # Figure 8 (top 20, pre-contact)
+    "top_approach_fix", "top_approach_nofix", "top_away_fix", "top_away_nofix",
+    "top_fix_cycles", "top_nofix_cycles",
+    # Figure 9 (top 20, pre-contact; *_allcyc: every cycle of the trial)
+    "top_hand_speed_fix", "top_eye_speed_fix", "top_hand_speed_nofix", "top_eye_speed_nofix",
+    "top_hand_speed_fix_allcyc", "top_eye_speed_fix_allcyc",
+]
+
+
+def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -> dict:
+    """Reduce one generation's trace to the per-generation statistics (BEHAVIOUR_COLUMNS).
+
+    top: indices of the selected econets (GenerationResult.parents)."""
+    pre = pre_contact(trace)
+    envs = np.zeros(trace.touch.shape[1], dtype=bool)
+    envs[econet_envs(top, trials)] = True
+    top_pre = pre & envs[None, :]
+    every = np.ones_like(pre) & envs[None, :]
+    fix = trace.fixated[:-1]
+    s_co, s_re = activation_deviations(trace, SHOULDER, top_pre)
+    e_co, e_re = activation_deviations(trace, ELBOW, top_pre)
+    return {
+        "generation": generation,
+        "all_shoulder_flexion": flexion_percent(trace, SHOULDER, pre),
+        "all_elbow_flexion": flexion_percent(trace, ELBOW, pre),
+        "all_shoulder_angle": mean_angle(trace, "shoulder", pre),
+        "all_elbow_angle": mean_angle(trace, "elbow", pre),
+        "top_shoulder_flexion": flexion_percent(trace, SHOULDER, top_pre),
+        "top_elbow_flexion": flexion_percent(trace, ELBOW, top_pre),
+        "top_shoulder_angle": mean_angle(trace, "shoulder", top_pre),
+        "top_shoulder_coact": s_co, "top_shoulder_recip": s_re,
+        "top_elbow_coact": e_co, "top_elbow_recip": e_re,
+        "top_approach_fix": approach_probability(trace, True, top_pre),
+        "top_approach_nofix": approach_probability(trace, False, top_pre),
+        "top_away_fix": away_probability(trace, True, top_pre),
+        "top_away_nofix": away_probability(trace, False, top_pre),
+        "top_fix_cycles": int((top_pre & fix).sum()),
+        "top_nofix_cycles": int((top_pre & ~fix).sum()),
+        "top_hand_speed_fix": mean_speed(trace, "hand", True, top_pre),
+        "top_eye_speed_fix": mean_speed(trace, "eye", True, top_pre),
+        "top_hand_speed_nofix": mean_speed(trace, "hand", False, top_pre),
+        "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre),
+        "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every),
+        "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every),
+    }
+
+
+# -- the lesion ---------------------------------------------------------------------------------
+def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:
+    """Bool mask over a network's flat weight vector: True for every weight leaving one of the
+    four proprioceptive input units (see controllers.py for the layout)."""
+    from .controllers import make_controller
+
+    vis, net = config.model.visual_units, config.network
+    n = make_controller(condition, 1, config).n_params
+    mask = np.zeros(n, dtype=bool)
+    if condition == "normal":
+        start = vis * net.visual_hidden     # the proprio -> proprioceptive-hidden layer
+        mask[start:start + N_PROPRIO * net.proprio_hidden] = True
+    elif condition == "three-layer":
+        n_in = vis + N_PROPRIO + 1
+        for k in range(net.three_layer_hidden):
+            mask[k * n_in + vis:k * n_in + vis + N_PROPRIO] = True
+    else:
+        raise ValueError(f"no proprioceptive weights in condition '{condition}'")
+    return mask
+
+
+def sever_proprioception(weights: np.ndarray, config: Config, condition: str) -> np.ndarray:
+    """Copy of (n, W) weights with the proprioceptive inputs' outgoing weights set to zero."""
+    out = np.array(weights, dtype=np.float64, copy=True)
+    out[:, proprioceptive_weight_mask(config, condition)] = 0.0
+    return out
+
+
+def run_networks(config: Config, condition: str, weights: np.ndarray, setup: TrialSetup,
+                 trials: int) -> Trace:
+    """Run each of the (k, W) networks on the same ``trials`` trial starts (setup has
+    ``trials`` entries); environment e = network * trials + trial."""
+    from .controllers import make_controller
+
+    k = weights.shape[0]
+    n = k * trials
+    world = World(n, config.model)
+    controller = make_controller(condition, n, config)
+    controller.load(np.repeat(weights, trials, axis=0), 0)
+    _, trace = run_trials(world, controller, setup.take(np.tile(np.arange(trials), k)),
+                          config.evolution.cycles, record=True)
+    return trace
+
+
+def first_contact(trace: Trace) -> np.ndarray:
+    """(n,) row of the first contact (1..C), or -1 for trials without contact."""
+    touch = trace.touch
+    hit = touch.any(axis=0)
+    return np.where(hit, touch.argmax(axis=0), -1)
+
+
+def reach_starts(trace: Trace) -> tuple[np.ndarray, np.ndarray]:
+    """Where each successful reach starts.
+
+    The final approach of a trial is the longest run of consecutive approach cycles (gap
+    strictly shrinking) that ends with the first contact; its start row s is the reach start.
+    Returns (rows s for every environment, -1 where the trial has no contact or starts in
+    contact; boolean mask of valid environments)."""
+    contact = first_contact(trace)
+    approach = distance_change(trace) < -MOVE_EPS            # (C, n)
+    starts = np.full(contact.shape, -1)
+    for env in np.flatnonzero(contact > 0):
+        row = contact[env]
+        while row > 0 and approach[row - 1, env]:
+            row -= 1
+        starts[env] = row
+    return starts, starts >= 0
+
+
+def body_frame(trace: Trace, rows: np.ndarray, envs: np.ndarray) -> np.ndarray:
+    """Hand-tip positions at (rows, envs) rotated into the body frame (gaze along +x)."""
+    xy = trace.hand[rows, envs]
+    a = -np.radians(trace.body[rows, envs])
+    c, s = np.cos(a), np.sin(a)
+    return np.stack([c * xy[:, 0] - s * xy[:, 1], s * xy[:, 0] + c * xy[:, 1]], axis=1)
+
+
+def spread(points: np.ndarray) -> float:
+    """Root-mean-square distance of 2-D points from their centroid (NaN for < 2 points)."""
+    if len(points) < 2:
+        return float("nan")
+    return float(np.sqrt(((points - points.mean(axis=0)) ** 2).sum(axis=1).mean()))
+
+
+@dataclass
+class ReachSummary:
+    """Approach-path and reach-start measures of a batch of trials (see docs/analysis.md)."""
+
+    success_rate: float          # trials with a contact
+    latency: float               # mean first-contact cycle over successful trials
+    approach_prob: float         # P(approach) over pre-contact cycles
+    path_efficiency: float       # mean over successful trials: net gap closed / hand path
+    turning: float               # mean |change of hand direction| per pre-contact cycle (deg)
+    final_approach_cycles: float  # mean length of the final approach
+    start_spread_body: float     # RMS spread of reach starts in the body frame
+    start_spread_world: float    # RMS spread of reach starts in the workspace
+    start_radius: float          # mean hand distance from the shoulder at the reach start
+    trial_start_spread_body: float  # the same spread at trial start (for reference)
+    n_reaches: int
+
+    def as_dict(self) -> dict:
+        return dict(vars(self))
+
+
+def summarize_reaches(trace: Trace) -> ReachSummary:
+    pre = pre_contact(trace)
+    n = trace.touch.shape[1]
+    contact = first_contact(trace)
+    starts, valid = reach_starts(trace)
+    envs = np.flatnonzero(valid)
+    hspeed = hand_speed(trace)
+    eff = []
+    for env in envs:
+        c = contact[env]
+        path = hspeed[:c, env].sum()
+        closed = trace.hand_object_distance[0, env] - trace.hand_object_distance[c, env]
+        eff.append(closed / path if path > MOVE_EPS else np.nan)
+    step = trace.hand[1:] - trace.hand[:-1]
+    heading = np.degrees(np.arctan2(step[..., 1], step[..., 0]))
+    turn = np.abs((np.diff(heading, axis=0) + 180.0) % 360.0 - 180.0)   # (C-1, n)
+    moving = (hspeed[1:] > 1e-6) & (hspeed[:-1] > 1e-6) & pre[1:]
+    starts_body = body_frame(trace, starts[envs], envs) if len(envs) else np.zeros((0, 2))
+    starts_world = trace.hand[starts[envs], envs] if len(envs) else np.zeros((0, 2))
+    trial_start = body_frame(trace, np.zeros(n, dtype=int), np.arange(n))
+    return ReachSummary(
+        success_rate=float(np.mean(contact >= 0)),
+        latency=float(np.mean(contact[contact >= 0])) if np.any(contact >= 0) else float("nan"),
+        approach_prob=approach_probability(trace, None, pre),
+        path_efficiency=float(np.nanmean(eff)) if len(eff) and np.any(np.isfinite(eff))
+        else float("nan"),
+        turning=_pooled(turn, moving),
+        final_approach_cycles=float(np.mean(contact[envs] - starts[envs])) if len(envs)
+        else float("nan"),
+        start_spread_body=spread(starts_body),
+        start_spread_world=spread(starts_world),
+        start_radius=float(np.mean(np.linalg.norm(starts_world, axis=1))) if len(envs)
+        else float("nan"),
+        trial_start_spread_body=spread(trial_start),
+        n_reaches=int(len(envs)),
+    )

@@ -1,0 +1,379 @@
+"""The study: the paper's three conditions (normal, three-layer, random), N runs each, with
+per-generation behaviour statistics, optional sensitivity variants, then the report.
+
+Folder layout (OUT = --out):
+    OUT/study.json                    format tag, base config, runs, seed, variants
+    OUT/<condition>/run-NN/           a run folder (results.py) plus behaviour.csv: one row per
+                                      finished generation (analysis.BEHAVIOUR_COLUMNS)
+    OUT/sensitivity/<variant>/<condition>/run-NN/   the same for each sensitivity variant
+    OUT/report.md, OUT/figures/*.png  written by the analysis step
+
+Every run is resumable: run folders resume from metrics.csv (results.RunStore); behaviour.csv is
+cut back to the rows metrics.csv confirms and any missing generations are re-made by replaying
+the stored genomes with the same trials (experiment.replay), so an interrupted study finishes
+with the same numbers as an uninterrupted one.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .config import CONDITIONS, Config, ConfigError
+
+STUDY_FORMAT = "econet-study/1"
+BEHAVIOUR_FILE = "behaviour.csv"
+
+# Built-in sensitivity variants: name -> settings changed from the study's base config.
+SENSITIVITY = {
+    "hidden-2-2-4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
+                     "network.intermodal_hidden": 4},
+    "hidden-8-8-16": {"network.visual_hidden": 8, "network.proprio_hidden": 8,
+                      "network.intermodal_hidden": 16},
+    "object-radius-4": {"model.object_radius": 4.0},
+}
+
+
+class StudyError(Exception):
+    """A results folder that cannot be analysed; the message names what is missing."""
+
+
+@dataclass
+class StudySpec:
+    """What a study folder holds (stored as study.json)."""
+
+    config: Config
+    runs: int
+    seed: int
+    variants: dict[str, dict] = field(default_factory=dict)
+    variant_runs: int | None = None      # runs per sensitivity variant (default: runs)
+
+    def runs_of(self, group: str) -> int:
+        return self.runs if group == "base" or not self.variant_runs else self.variant_runs
+
+    def to_json(self) -> str:
+        return json.dumps({"format": STUDY_FORMAT, "config": self.config.to_dict(),
+                           "runs": self.runs, "seed": self.seed, "variants": self.variants,
+                           "variant_runs": self.variant_runs}, indent=2, sort_keys=True)
+
+    def merged_with(self, stored: "StudySpec") -> "StudySpec":
+        """This spec plus the variants an existing folder already holds; ConfigError when the
+        base settings differ (adding sensitivity variants to a study is allowed)."""
+        same = (self.config == stored.config and self.runs == stored.runs
+                and self.seed == stored.seed)
+        clash = [n for n in self.variants if n in stored.variants
+                 and stored.variants[n] != self.variants[n]]
+        runs_clash = (self.variants and stored.variants and
+                      self.runs_of("v") != stored.runs_of("v"))
+        if not same or clash or runs_clash:
+            raise ConfigError("the results folder holds a study with different settings; "
+                              "choose another --out folder or pass --overwrite")
+        variants = dict(stored.variants)
+        variants.update(self.variants)
+        runs = self.variant_runs if self.variants else stored.variant_runs
+        return StudySpec(self.config, self.runs, self.seed, variants, runs)
+
+    @classmethod
+    def load(cls, out: Path) -> "StudySpec":
+        path = Path(out) / "study.json"
+        if not Path(out).is_dir():
+            raise StudyError(f"results folder {out} does not exist (make one with: econet study "
+                             f"--out {out})")
+        if not path.exists():
+            raise StudyError(f"{out} is not a study results folder: study.json is missing "
+                             "(make one with: econet study)")
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as error:
+            raise StudyError(f"{path} is not valid JSON ({error})") from None
+        if data.get("format") != STUDY_FORMAT:
+            raise StudyError(f"{path} has format {data.get('format')!r}; this version reads "
+                             f"{STUDY_FORMAT!r} (re-run econet study into a new folder)")
+        try:
+            config = Config.from_dict(data["config"])
+        except (ConfigError, KeyError, TypeError) as error:
+            raise StudyError(f"{path} holds an unreadable config: {error}") from None
+        return cls(config, int(data["runs"]), int(data["seed"]), dict(data.get("variants", {})),
+                   data.get("variant_runs"))
+
+
+def conditions_for(variant_changes: dict | None) -> tuple[str, ...]:
+    """Conditions a variant needs. Random movement ignores every network size and the
+    three-layer net only depends on three_layer_hidden, so a variant that only changes network
+    sizes re-runs just the conditions those sizes affect (the report compares it with the base
+    study's other conditions)."""
+    if not variant_changes or any(not k.startswith("network.") for k in variant_changes):
+        return CONDITIONS
+    needed = []
+    if any(k != "network.three_layer_hidden" for k in variant_changes):
+        needed.append("normal")
+    if "network.three_layer_hidden" in variant_changes:
+        needed.append("three-layer")
+    return tuple(needed)
+
+
+def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path]]:
+    """(config, seed, run, run folder) of every run of the study, longest first."""
+    from .experiment import run_folder
+
+    tasks = []
+    groups = [(Path(out), spec.config, None, spec.runs)]
+    for name, changes in spec.variants.items():
+        groups.append((Path(out) / "sensitivity" / name, spec.config.replace(**changes), changes,
+                       spec.runs_of(name)))
+    for folder, config, changes, runs in groups:
+        for condition in conditions_for(changes):
+            cfg = config.replace(**{"evolution.condition": condition})
+            for run in range(1, runs + 1):
+                tasks.append((cfg, spec.seed, run, run_folder(folder / condition, run)))
+    # random-movement runs are cheaper: schedule them last
+    return sorted(tasks, key=lambda t: t[0].evolution.condition == "random")
+
+
+# -- one run, with behaviour rows ----------------------------------------------------------------
+def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
+                       evaluator=None) -> int:
+    """Evolve (or resume) one run into run_dir, writing behaviour.csv alongside metrics.csv.
+    Returns the number of generations finished."""
+    from .analysis import BEHAVIOUR_COLUMNS, behaviour_row
+    from .evolution import Evaluator, evolve, initial_genomes
+    from .experiment import replay
+    from .results import RunStore
+
+    evaluator = evaluator or Evaluator(config)
+    trials = config.evolution.trials
+    store = RunStore(run_dir, config, seed, run, evaluator.n_weights)
+    start = store.open(lambda: initial_genomes(config, evaluator.n_weights, seed, run))
+    done = start[0]
+    path = Path(run_dir) / BEHAVIOUR_FILE
+    rows = _read_rows(path, BEHAVIOUR_COLUMNS)[:done]
+    _write_rows(path, BEHAVIOUR_COLUMNS, rows)
+    for generation in range(len(rows), done):     # gap left by an interruption
+        result = replay(run_dir, generation, evaluator=evaluator)
+        _append_row(path, BEHAVIOUR_COLUMNS,
+                    behaviour_row(result.trace, generation, result.parents, trials))
+
+    def on_generation(result, offspring):
+        store.write(result, offspring)
+        _append_row(path, BEHAVIOUR_COLUMNS,
+                    behaviour_row(result.trace, result.generation, result.parents, trials))
+
+    if done < config.evolution.generations:
+        evolve(config, seed, run, evaluator, start=start, on_generation=on_generation,
+               record=True)
+    return config.evolution.generations
+
+
+def _read_rows(path: Path, columns: list[str]) -> list[dict]:
+    if not path.exists():
+        return []
+    text = path.read_text(encoding="utf-8")
+    if not text.endswith("\n"):
+        text = text[:text.rfind("\n") + 1]
+    lines = text.splitlines()
+    if not lines or lines[0].split(",") != columns:
+        return []
+    return list(csv.DictReader(lines))
+
+
+def _write_rows(path: Path, columns: list[str], rows: list[dict]) -> None:
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, columns)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _append_row(path: Path, columns: list[str], row: dict) -> None:
+    with open(path, "a", newline="", encoding="utf-8") as handle:
+        csv.writer(handle).writerow([row[c] for c in columns])
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def _worker_init() -> None:
+    try:
+        import numba
+        numba.set_num_threads(1)
+    except (ImportError, ValueError):
+        pass
+
+
+def _run_task(task) -> int:
+    config, seed, run, run_dir = task
+    return run_with_behaviour(config, seed, run, run_dir)
+
+
+def _finished(run_dir: Path) -> int:
+    """Finished generations of a run folder (rows of metrics.csv), cheaply."""
+    try:
+        with open(Path(run_dir) / "metrics.csv", "rb") as handle:
+            return max(handle.read().count(b"\n") - 1, 0)
+    except OSError:
+        return 0
+
+
+def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) -> float:
+    """Run (or resume) every run of the study (plus the variants an existing folder already
+    holds); returns the wall time in seconds."""
+    from tqdm import tqdm
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    stored = out / "study.json"
+    if stored.exists():
+        spec = spec.merged_with(StudySpec.load(out))
+    stored.write_text(spec.to_json(), encoding="utf-8")
+    tasks = study_tasks(spec, out)
+    total = sum(t[0].evolution.generations for t in tasks)
+    started = time.time()
+    with tqdm(total=total, initial=sum(_finished(t[3]) for t in tasks), unit="gen",
+              desc="study", disable=not progress, dynamic_ncols=True) as bar:
+        def refresh():
+            bar.n = sum(_finished(t[3]) for t in tasks)
+            bar.refresh()
+
+        if jobs <= 1:
+            for task in tasks:
+                bar.set_postfix_str(f"{task[0].evolution.condition} {task[3].parent.parent.name}"
+                                    f"/run {task[2]}")
+                _run_task(task)
+                refresh()
+        else:
+            _run_parallel(tasks, jobs, refresh)
+        refresh()
+    return time.time() - started
+
+
+def _run_parallel(tasks, jobs: int, refresh) -> None:
+    import multiprocessing
+
+    previous = os.environ.get("NUMBA_NUM_THREADS")
+    os.environ["NUMBA_NUM_THREADS"] = "1"      # one thread per worker process
+    try:
+        with ProcessPoolExecutor(max_workers=jobs, initializer=_worker_init,
+                                 mp_context=multiprocessing.get_context("spawn")) as pool:
+            pending = {pool.submit(_run_task, task) for task in tasks}
+            while pending:
+                finished, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    future.result()      # re-raise a worker's error here
+                refresh()
+    finally:
+        if previous is None:
+            os.environ.pop("NUMBA_NUM_THREADS", None)
+        else:
+            os.environ["NUMBA_NUM_THREADS"] = previous
+
+
+# -- reading a study back ------------------------------------------------------------------------
+@dataclass
+class ConditionData:
+    """Per-run series of one condition; arrays are (runs, generations), NaN where missing."""
+
+    name: str
+    folder: Path
+    generations: int
+    runs_expected: int
+    metrics: dict[str, np.ndarray]
+    behaviour: dict[str, np.ndarray]
+    done: list[int]               # finished generations per run found (metrics.csv rows)
+    behaviour_done: list[int]     # behaviour.csv rows per run
+    run_dirs: list[Path]
+    problems: list[str]           # human-readable gaps
+
+    @property
+    def n_runs(self) -> int:
+        return len(self.run_dirs)
+
+    @property
+    def complete(self) -> bool:
+        return not self.problems
+
+
+def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config,
+                   runs: int | None = None) -> ConditionData:
+    """Read one condition's run folders; gaps are listed in .problems, never hidden."""
+    from .analysis import BEHAVIOUR_COLUMNS
+    from .experiment import run_folder
+    from .results import METRIC_COLUMNS, RunData
+
+    generations = config.evolution.generations
+    folder = Path(folder)
+    problems, run_dirs, done, bdone = [], [], [], []
+    metric_rows, behaviour_rows = [], []
+    if not folder.is_dir():
+        problems.append(f"{folder} is missing (no {condition} runs)")
+    runs = runs or spec.runs
+    for run in range(1, runs + 1):
+        path = run_folder(folder, run)
+        if not folder.is_dir():
+            break
+        if not (path / "run.json").exists():
+            problems.append(f"{path.name}: missing (no run.json)")
+            continue
+        try:
+            data = RunData(path)
+        except (ValueError, KeyError, OSError) as error:
+            raise StudyError(f"{path}: {error} (old or damaged run folder; re-run econet study "
+                             "into a new folder)") from None
+        if data.config.evolution.condition != condition:
+            raise StudyError(f"{path} holds a {data.config.evolution.condition} run, expected "
+                             f"{condition}")
+        brows = _read_rows(path / BEHAVIOUR_FILE, BEHAVIOUR_COLUMNS)
+        if (path / BEHAVIOUR_FILE).exists() and not brows and data.generations_done:
+            header = (path / BEHAVIOUR_FILE).read_text(encoding="utf-8").split("\n", 1)[0]
+            if header.split(",") != BEHAVIOUR_COLUMNS:
+                raise StudyError(f"{path / BEHAVIOUR_FILE} has columns from another version; "
+                                 "re-run econet study on this folder to rebuild it")
+        if not (path / BEHAVIOUR_FILE).exists():
+            problems.append(f"{path.name}: behaviour.csv missing (re-run econet study to make it)")
+        brows = brows[:data.generations_done]
+        if data.generations_done < generations:
+            problems.append(f"{path.name}: {data.generations_done} of {generations} generations")
+        elif len(brows) < data.generations_done and (path / BEHAVIOUR_FILE).exists():
+            problems.append(f"{path.name}: behaviour for {len(brows)} of "
+                            f"{data.generations_done} generations")
+        run_dirs.append(path)
+        done.append(data.generations_done)
+        bdone.append(len(brows))
+        metric_rows.append(data.metrics)
+        behaviour_rows.append(brows)
+    metrics = {c: _stack([m[c] for m in metric_rows], generations) for c in METRIC_COLUMNS}
+    behaviour = {c: _stack([np.array([float(r[c]) for r in rows]) for rows in behaviour_rows],
+                           generations) for c in BEHAVIOUR_COLUMNS}
+    return ConditionData(condition, folder, generations, runs, metrics, behaviour, done,
+                         bdone, run_dirs, problems)
+
+
+def _stack(series: list[np.ndarray], generations: int) -> np.ndarray:
+    out = np.full((len(series), generations), np.nan)
+    for i, values in enumerate(series):
+        n = min(len(values), generations)
+        out[i, :n] = values[:n]
+    return out
+
+
+def load_study(out: Path) -> tuple[StudySpec, dict[str, dict[str, ConditionData]]]:
+    """{group: {condition: data}}; group "base" is the main study, others are variants.
+    Raises StudyError when nothing can be analysed."""
+    out = Path(out)
+    spec = StudySpec.load(out)
+    groups: dict[str, dict[str, ConditionData]] = {}
+    groups["base"] = {c: load_condition(out / c, spec, c, spec.config.replace(
+        **{"evolution.condition": c})) for c in CONDITIONS}
+    for name, changes in spec.variants.items():
+        cfg = spec.config.replace(**changes)
+        groups[name] = {c: load_condition(out / "sensitivity" / name / c, spec, c,
+                                          cfg.replace(**{"evolution.condition": c}),
+                                          spec.runs_of(name))
+                        for c in conditions_for(changes)}
+    if not any(d.n_runs and max(d.done) > 0 for d in groups["base"].values()):
+        raise StudyError(f"{out} holds no finished generation of any condition yet "
+                         "(run econet study first)")
+    return spec, groups

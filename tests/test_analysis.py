@@ -1,0 +1,195 @@
+"""Analyses on synthetic traces whose answers are known by construction."""
+import numpy as np
+import pytest
+
+from econet_ros import analysis as A
+from econet_ros.config import Config
+from econet_ros.controllers import Controller, FourLayerNetwork
+from econet_ros.engine import Trace, run_trials
+from econet_ros.world import TrialSetup, World, sample_setups
+
+
+class Scripted(Controller):
+    """Fixed motor outputs every cycle (eye, sf, se, ef, ee)."""
+
+    def __init__(self, n_envs, config, outputs):
+        super().__init__(n_envs, config)
+        self.outputs = np.asarray(outputs, dtype=float)
+
+    def act(self, obs):
+        return np.tile(self.outputs, (self.n_envs, 1))
+
+
+def scripted_trace(outputs, n=30, cycles=30, seed=0, config=None):
+    config = config or Config()
+    world = World(n, config.model)
+    setup = sample_setups(np.random.default_rng(seed), n, config.model)
+    _, trace = run_trials(world, Scripted(n, config, outputs), setup, cycles, record=True)
+    return trace
+
+
+def far_setup(n, body=0.0, shoulder=90.0, elbow=90.0):
+    """Object far behind the agent: no contact within a few cycles."""
+    return TrialSetup(np.tile([-44.0, 0.0], (n, 1)), np.full(n, body), np.full(n, shoulder),
+                      np.full(n, elbow))
+
+
+def test_always_flexing_shoulder_gives_100_percent_flexion():
+    trace = scripted_trace([0.5, 1.0, 0.0, 0.3, 0.7])
+    assert A.flexion_percent(trace, A.SHOULDER) == pytest.approx(100.0)
+    assert A.flexion_percent(trace, A.ELBOW) == pytest.approx(0.0)
+
+
+def test_always_extending_shoulder_locks_it_fully_extended():
+    trace = scripted_trace([0.5, 0.0, 1.0, 0.5, 0.5], cycles=40)
+    assert A.flexion_percent(trace, A.SHOULDER) == 0.0
+    # after at most 12 cycles of 15 deg the shoulder sits at 180 for good
+    assert np.all(trace.shoulder[13:] == pytest.approx(180.0))
+
+
+def test_equal_muscles_have_zero_deviation_from_coactivation():
+    trace = scripted_trace([0.5, 0.7, 0.7, 0.2, 0.2])
+    co, re = A.activation_deviations(trace, A.SHOULDER)
+    assert co == pytest.approx(0.0)
+    assert re == pytest.approx(abs(0.7 + 0.7 - 1) / np.sqrt(2))
+    co, re = A.activation_deviations(trace, A.ELBOW)
+    assert co == 0.0 and re == pytest.approx(0.6 / np.sqrt(2))
+
+
+def test_reciprocal_muscles_have_zero_deviation_from_reciprocal_line():
+    trace = scripted_trace([0.5, 0.9, 0.1, 0.25, 0.75])
+    assert A.activation_deviations(trace, A.SHOULDER)[1] == pytest.approx(0.0)
+    assert A.activation_deviations(trace, A.ELBOW)[1] == pytest.approx(0.0)
+    assert A.activation_deviations(trace, A.SHOULDER)[0] == pytest.approx(0.8 / np.sqrt(2))
+
+
+def test_deviation_is_the_geometric_distance_to_each_line():
+    f, e = np.array([0.8]), np.array([0.45])
+    # foot of the perpendicular onto f = e is ((f+e)/2, (f+e)/2)
+    m = (f + e) / 2
+    assert A.coactivation_deviation(f, e)[0] == pytest.approx(np.hypot(f - m, e - m)[0])
+    # onto f + e = 1: ((f-e+1)/2, (e-f+1)/2)
+    p, q = (f - e + 1) / 2, (e - f + 1) / 2
+    assert A.reciprocal_deviation(f, e)[0] == pytest.approx(np.hypot(f - p, e - q)[0])
+
+
+def test_still_arm_and_eye_have_zero_speed_and_no_approach():
+    trace = scripted_trace([0.5, 0.5, 0.5, 0.5, 0.5])
+    assert A.mean_speed(trace, "hand", None) == pytest.approx(0.0)
+    assert A.mean_speed(trace, "eye", None) == pytest.approx(0.0)
+    assert A.approach_probability(trace, None) == 0.0
+    assert A.away_probability(trace, None) == 0.0
+
+
+def test_eye_speed_is_the_body_rotation_per_cycle():
+    trace = scripted_trace([1.0, 0.5, 0.5, 0.5, 0.5])          # eye turns +15 deg per cycle
+    assert A.mean_speed(trace, "eye", None) == pytest.approx(15.0)
+    # arm locked relative to the body: the hand moves along a circle, chord per 15 deg step
+    radius = np.linalg.norm(trace.hand[0], axis=-1)
+    chord = 2 * radius * np.sin(np.radians(7.5))
+    np.testing.assert_allclose(A.hand_speed(trace)[0], chord, rtol=1e-6)
+
+
+def test_approach_probability_counts_only_shrinking_gaps():
+    config = Config()
+    n = 4
+    world = World(n, config.model)
+    _, trace = run_trials(world, Scripted(n, config, [0.5, 0.5, 0.5, 0.5, 0.5]), far_setup(n),
+                          10, record=True)
+    d = np.linspace(50, 41, 11)[:, None].repeat(n, axis=1)
+    d[6:, :2] = d[5, 0] + 1 + np.arange(5)[:, None]        # envs 0, 1 move away from cycle 5
+    trace.hand_object_distance = d
+    trace.fixated = np.zeros_like(trace.fixated)
+    trace.fixated[:, 2:] = True                            # envs 2, 3 always fixate
+    assert A.approach_probability(trace, True) == pytest.approx(1.0)
+    assert A.approach_probability(trace, False) == pytest.approx(5 / 10)
+    assert A.away_probability(trace, False) == pytest.approx(5 / 10)
+    assert A.approach_probability(trace, None) == pytest.approx(30 / 40)
+
+
+def test_pre_contact_mask_stops_at_the_first_touch():
+    trace = scripted_trace([0.5] * 5, n=3, cycles=6)
+    trace.touch = np.zeros_like(trace.touch)
+    trace.touch[3, 0] = True         # env 0 touches after cycle 2 (row 3), then lets go
+    trace.touch[0, 1] = True         # env 1 starts in contact
+    mask = A.pre_contact(trace)
+    np.testing.assert_array_equal(mask[:, 0], [True, True, True, False, False, False])
+    assert not mask[:, 1].any()
+    assert mask[:, 2].all()
+
+
+def test_behaviour_row_groups_top_econets():
+    config = Config()
+    trials, econets = 3, 4
+    n = trials * econets
+    world = World(n, config.model)
+
+    class PerEnv(Controller):
+        def act(self, obs):
+            out = np.full((n, 5), 0.5)
+            out[:2 * trials, 1], out[:2 * trials, 2] = 1.0, 0.0    # econets 0, 1 flex
+            out[2 * trials:, 1], out[2 * trials:, 2] = 0.0, 1.0    # econets 2, 3 extend
+            return out
+
+    _, trace = run_trials(world, PerEnv(n, config), far_setup(n), 5, record=True)
+    row = A.behaviour_row(trace, 7, np.array([0, 1]), trials)
+    assert row["generation"] == 7
+    assert row["top_shoulder_flexion"] == pytest.approx(100.0)
+    assert row["all_shoulder_flexion"] == pytest.approx(50.0)
+    assert row["top_elbow_coact"] == pytest.approx(0.0)
+    assert set(row) == set(A.BEHAVIOUR_COLUMNS)
+
+
+def test_severing_proprioception_removes_its_influence():
+    config = Config()
+    net = FourLayerNetwork(2, config)
+    rng = np.random.default_rng(3)
+    weights = rng.uniform(-10, 10, (1, net.n_params))
+    cut = A.sever_proprioception(weights, config, "normal")
+    assert np.count_nonzero(weights - cut) == 4 * config.network.proprio_hidden
+    net.load(np.repeat(cut, 2, axis=0))
+    inputs = np.zeros((2, 13))
+    inputs[:, :8] = 0.3
+    inputs[0, 8:12] = [0.0, 1.0, 0.2, 0.8]
+    inputs[1, 8:12] = [1.0, 0.0, 0.9, 0.1]                  # different posture, same vision
+    out = net.forward(inputs)
+    np.testing.assert_allclose(out[0], out[1])
+    net.load(np.repeat(weights, 2, axis=0))
+    assert not np.allclose(*net.forward(inputs))            # intact: posture matters
+    mask3 = A.proprioceptive_weight_mask(config, "three-layer")
+    assert mask3.sum() == 4 * config.network.three_layer_hidden
+
+
+def test_reach_start_is_the_start_of_the_final_approach():
+    trace = scripted_trace([0.5] * 5, n=2, cycles=8)
+    d = np.array([9, 8, 9, 10, 7, 5, 0, 0, 0], dtype=float)
+    trace.hand_object_distance = np.stack([d, np.full(9, 20.0)], axis=1)
+    trace.touch = trace.hand_object_distance <= 0
+    starts, valid = A.reach_starts(trace)
+    assert list(valid) == [True, False]
+    assert starts[0] == 3                    # 10 -> 7 -> 5 -> 0: the approach starts at row 3
+
+
+def test_identical_reach_starts_have_zero_spread():
+    assert A.spread(np.tile([[3.0, 4.0]], (5, 1))) == 0.0
+    assert A.spread(np.array([[0.0, 1.0], [0.0, -1.0]])) == pytest.approx(1.0)
+
+
+def test_body_frame_undoes_the_body_rotation():
+    trace = scripted_trace([1.0, 0.5, 0.5, 0.5, 0.5], n=2, cycles=5)
+    # arm fixed relative to the body: the body-frame hand position never changes
+    rows = np.arange(6)
+    pts = np.stack([A.body_frame(trace, np.full(2, r), np.arange(2)) for r in rows])
+    np.testing.assert_allclose(pts, np.broadcast_to(pts[0], pts.shape), atol=1e-9)
+
+
+def test_summarize_reaches_on_a_real_network():
+    config = Config()
+    weights = np.random.default_rng(0).uniform(-10, 10, (2, FourLayerNetwork(1, config).n_params))
+    setup = sample_setups(np.random.default_rng(1), 10, config.model)
+    trace = A.run_networks(config, "normal", weights, setup, 10)
+    summary = A.summarize_reaches(trace)
+    assert 0.0 <= summary.success_rate <= 1.0
+    assert summary.n_reaches == int(trace.touch.any(axis=0).sum() - trace.touch[0].sum()) or \
+        summary.n_reaches <= int(trace.touch.any(axis=0).sum())
+    assert trace.touch.shape[1] == 20

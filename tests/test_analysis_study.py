@@ -1,0 +1,137 @@
+"""The study command end to end on a tiny study: resume, report, and errors for bad folders."""
+import csv
+import json
+import shutil
+
+import pytest
+
+from econet_ros.cli import main
+from econet_ros.config import Config
+from econet_ros.report import build_report
+from econet_ros.study import StudyError, StudySpec, load_study, run_study
+
+TINY = ["--runs", "2", "--generations", "4", "--population", "10", "--parents", "2",
+        "--trials", "3", "--cycles", "25", "--quiet", "--jobs", "1"]
+
+
+def tiny_spec(variants=None):
+    config = Config().replace(**{"evolution.generations": 4, "evolution.population": 10,
+                                 "evolution.parents": 2, "evolution.trials": 3,
+                                 "evolution.cycles": 25})
+    return StudySpec(config, 2, 1, variants or {})
+
+
+@pytest.fixture(scope="module")
+def tiny_study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study")
+    spec = tiny_spec({"hidden-2-2-4": {"network.visual_hidden": 2,
+                                       "network.proprio_hidden": 2,
+                                       "network.intermodal_hidden": 4}})
+    run_study(spec, out, jobs=1, progress=False)
+    return out
+
+
+def rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_study_writes_every_condition_with_behaviour_rows(tiny_study):
+    for condition in ("normal", "three-layer", "random"):
+        for run in ("run-01", "run-02"):
+            folder = tiny_study / condition / run
+            assert len(rows(folder / "metrics.csv")) == 4
+            assert [int(r["generation"]) for r in rows(folder / "behaviour.csv")] == [0, 1, 2, 3]
+    # a network-size variant re-runs only the four-layer condition
+    variant = tiny_study / "sensitivity" / "hidden-2-2-4"
+    assert (variant / "normal" / "run-02" / "behaviour.csv").exists()
+    assert not (variant / "random").exists() and not (variant / "three-layer").exists()
+
+
+def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
+    report, notes = build_report(tiny_study, tmp_path / "report.md")
+    assert notes == []
+    text = report.read_text()
+    for fig in ("fig3_performance", "fig4_shoulder_flexion", "fig5_elbow_flexion",
+                "fig7_coactivation", "fig8_approach", "fig9_speed", "lesion", "sensitivity"):
+        assert (tmp_path / "figures" / f"{fig}.png").stat().st_size > 1000
+        assert f"figures/{fig}.png" in text
+    for claim in ("Four-layer econets learn faster", "8 of 10 runs", "9 of 10 runs",
+                  "reciprocal activation pattern", "roughly 25%", "Severing the proprioceptive",
+                  "first 50 generations", "slowdown of hand", "is 0.5"):
+        assert claim in text
+    table = [line for line in text.splitlines() if line.startswith("| ") and "**" in line]
+    assert len(table) >= 2 * 28          # every claim, for the base study and the variant
+    assert all(any(v in line for v in ("replicates", "partly", "does not", "n/a"))
+               for line in table)
+    assert "All runs of all conditions are complete" in text
+
+
+def test_interrupted_behaviour_is_refilled_by_replay(tiny_study, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(tiny_study, copy)
+    path = copy / "normal" / "run-01" / "behaviour.csv"
+    before = rows(path)
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join(lines[:2]) + lines[2][:10])    # 1 row and a torn one
+    run_study(tiny_spec(json.loads((copy / "study.json").read_text())["variants"]), copy,
+              jobs=1, progress=False)
+    assert rows(path) == before
+
+
+def test_partial_study_is_analysed_with_the_gap_stated(tiny_study, tmp_path):
+    copy = tmp_path / "partial"
+    shutil.copytree(tiny_study, copy)
+    metrics = copy / "three-layer" / "run-02" / "metrics.csv"
+    metrics.write_text("".join(metrics.read_text().splitlines(keepends=True)[:3]))
+    shutil.rmtree(copy / "random" / "run-02")
+    report, notes = build_report(copy)
+    assert any("three-layer" in n and "2 of 4 generations" in n for n in notes)
+    assert any("random" in n and "run-02" in n and "missing" in n for n in notes)
+    text = report.read_text()
+    assert "This study is incomplete" in text and "2 of 4 generations" in text
+
+
+def test_analyze_errors_name_what_is_missing(tmp_path, capsys):
+    assert main(["analyze", str(tmp_path / "nowhere")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["analyze", str(tmp_path)]) == 2
+    assert "study.json is missing" in capsys.readouterr().err
+    (tmp_path / "study.json").write_text(json.dumps({"format": "econet-study/0"}))
+    assert main(["analyze", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "econet-study/0" in err and err.count("\n") == 1
+    (tmp_path / "study.json").write_text(tiny_spec().to_json())
+    with pytest.raises(StudyError, match="no finished generation"):
+        load_study(tmp_path)
+    assert main(["analyze", str(tmp_path)]) == 2
+
+
+def test_old_behaviour_columns_are_reported(tiny_study, tmp_path):
+    copy = tmp_path / "old"
+    shutil.copytree(tiny_study, copy)
+    path = copy / "normal" / "run-01" / "behaviour.csv"
+    path.write_text("generation,flexion\n0,50\n")
+    with pytest.raises(StudyError, match="behaviour.csv has columns from another version"):
+        load_study(copy)
+
+
+def test_study_command_runs_and_reports(tmp_path, capsys):
+    out = tmp_path / "cli"
+    assert main(["study", "--out", str(out), *TINY]) == 0
+    printed = capsys.readouterr().out
+    assert "report:" in printed and (out / "report.md").exists()
+    # a second call resumes (nothing left to do) and refuses other settings
+    assert main(["study", "--out", str(out), *TINY]) == 0
+    capsys.readouterr()
+    assert main(["study", "--out", str(out), *TINY[:-2], "--jobs", "1", "--seed", "5"]) == 2
+    assert "different settings" in capsys.readouterr().err
+    assert main(["study", "--sensitivity", "bogus", "--out", str(out), *TINY]) == 2
+    assert "unknown sensitivity variant" in capsys.readouterr().err
+    # sensitivity variants can be added to a finished study later, with fewer runs
+    assert main(["study", "--out", str(out), *TINY, "--sensitivity", "hidden-8-8-16",
+                 "--sensitivity-runs", "1"]) == 0
+    variant = out / "sensitivity" / "hidden-8-8-16" / "normal"
+    assert sorted(p.name for p in variant.iterdir()) == ["run-01"]
+    text = (out / "report.md").read_text()
+    assert "**hidden-8-8-16**" in text and "Verdict depends on the setting" in text
