@@ -288,26 +288,40 @@ def _disk_in_wedge(cx, cy, d, r, u0x, u0y, u1x, u1y):
 
 
 @numba.njit(cache=True, inline="always")
-def _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y):
+def _edge_crossing(ux, uy, px, py, dx, dy):
+    """Where the segment p + t*d crosses the line of a window edge (unit vector u): the side
+    function cross(u, p + t*d) = c0 + t*c1 and its root t (0 if parallel). Neighbouring windows
+    share an edge, so each edge is computed once."""
+    c0 = ux * py - uy * px
+    c1 = ux * dy - uy * dx
+    return c0, c1, (-c0 / c1 if c1 != 0.0 else 0.0)
+
+
+@numba.njit(cache=True, inline="always")
+def _segment_in_wedge(right, left, t_foot, px, py, dx, dy):
     """Nearest distance from the origin to the part of segment p + t*d, t in [0, 1], inside the
-    wedge between unit vectors u0 and u1 (less than 180 degrees apart); inf if none is."""
+    wedge between a right and a left edge (their _edge_crossing values; less than 180 degrees
+    apart); inf if none is. t_foot is the segment's point nearest the origin."""
     lo, hi = 0.0, 1.0
-    # Inside means cross(u0, x) >= 0 and cross(u1, x) <= 0; both are linear in t.
-    for ux, uy, sign in ((u0x, u0y, 1.0), (u1x, u1y, -1.0)):
-        c0 = sign * (ux * py - uy * px)
-        c1 = sign * (ux * dy - uy * dx)
-        if c1 == 0.0:
-            if c0 < 0.0:
-                return math.inf
-        elif c1 > 0.0:
-            lo = max(lo, -c0 / c1)
-        else:
-            hi = min(hi, -c0 / c1)
+    c0, c1, t = right                  # inside: c0 + t*c1 >= 0
+    if c1 == 0.0:
+        if c0 < 0.0:
+            return math.inf
+    elif c1 > 0.0:
+        lo = max(lo, t)
+    else:
+        hi = min(hi, t)
+    c0, c1, t = left                   # inside: c0 + t*c1 <= 0
+    if c1 == 0.0:
+        if c0 > 0.0:
+            return math.inf
+    elif c1 < 0.0:
+        lo = max(lo, t)
+    else:
+        hi = min(hi, t)
     if lo > hi:
         return math.inf
-    dd = dx * dx + dy * dy
-    t = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
-    t = min(max(t, lo), hi)
+    t = min(max(t_foot, lo), hi)
     x, y = px + t * dx, py + t * dy
     return math.sqrt(x * x + y * y)
 
@@ -380,6 +394,10 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
         spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
     else:
         spans = ((o_first, o_last), (h_first, h_last))
+    dd = dx * dx + dy * dy
+    t_foot = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
+    right = (0.0, 0.0, 0.0)
+    right_edge = -1                    # the edge whose crossing ``right`` holds
     for first, last in spans:
         for w in range(first, last + 1):
             u0x, u0y, u1x, u1y = edge_x[w], edge_y[w], edge_x[w + 1], edge_y[w + 1]
@@ -388,7 +406,11 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
                 near_obj = _disk_in_wedge(cx, cy, d_obj, geo.radius, u0x, u0y, u1x, u1y)
             near_hand = math.inf
             if h_first <= w <= h_last:
-                near_hand = _segment_in_wedge(px, py, dx, dy, u0x, u0y, u1x, u1y)
+                if right_edge != w:
+                    right = _edge_crossing(u0x, u0y, px, py, dx, dy)
+                left = _edge_crossing(u1x, u1y, px, py, dx, dy)
+                near_hand = _segment_in_wedge(right, left, t_foot, px, py, dx, dy)
+                right, right_edge = left, w + 1
             nearest = min(near_obj, near_hand)
             if nearest < math.inf:
                 senses[w // per_unit] += max(1.0 - nearest / geo.visual_range, 0.0) / per_unit
