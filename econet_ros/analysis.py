@@ -85,7 +85,8 @@ def distance_change(trace: Trace) -> np.ndarray:
 
 def hand_speed(trace: Trace) -> np.ndarray:
     """(C, n): hand-tip displacement in the cycle (workspace units)."""
-    return np.linalg.norm(trace.hand[1:] - trace.hand[:-1], axis=-1)
+    step = trace.hand[1:] - trace.hand[:-1]
+    return np.hypot(step[..., 0], step[..., 1])
 
 
 def eye_speed(trace: Trace) -> np.ndarray:
@@ -108,10 +109,12 @@ def away_probability(trace: Trace, fixated: bool | None, mask: np.ndarray | None
 
 
 def mean_speed(trace: Trace, kind: str, fixated: bool | None,
-               mask: np.ndarray | None = None) -> float:
-    """Mean hand ('hand') or eye ('eye') speed over (pre-contact) cycles with the given fixation."""
+               mask: np.ndarray | None = None, speed: np.ndarray | None = None) -> float:
+    """Mean hand ('hand') or eye ('eye') speed over (pre-contact) cycles with the given fixation
+    (``speed``: that speed, if already computed)."""
     mask = _fixation_mask(trace, fixated, mask)
-    speed = hand_speed(trace) if kind == "hand" else eye_speed(trace)
+    if speed is None:
+        speed = hand_speed(trace) if kind == "hand" else eye_speed(trace)
     return _pooled(speed, mask)
 
 
@@ -152,6 +155,7 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
     fix = trace.fixated[:-1]
     s_co, s_re = activation_deviations(trace, SHOULDER, top_pre)
     e_co, e_re = activation_deviations(trace, ELBOW, top_pre)
+    hand, eye = hand_speed(trace), eye_speed(trace)
     return {
         "generation": generation,
         "all_shoulder_flexion": flexion_percent(trace, SHOULDER, pre),
@@ -169,12 +173,12 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
         "top_away_nofix": away_probability(trace, False, top_pre),
         "top_fix_cycles": int((top_pre & fix).sum()),
         "top_nofix_cycles": int((top_pre & ~fix).sum()),
-        "top_hand_speed_fix": mean_speed(trace, "hand", True, top_pre),
-        "top_eye_speed_fix": mean_speed(trace, "eye", True, top_pre),
-        "top_hand_speed_nofix": mean_speed(trace, "hand", False, top_pre),
-        "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre),
-        "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every),
-        "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every),
+        "top_hand_speed_fix": mean_speed(trace, "hand", True, top_pre, hand),
+        "top_eye_speed_fix": mean_speed(trace, "eye", True, top_pre, eye),
+        "top_hand_speed_nofix": mean_speed(trace, "hand", False, top_pre, hand),
+        "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre, eye),
+        "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every, hand),
+        "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every, eye),
     }
 
 

@@ -20,6 +20,12 @@ _LESION_PURPOSE = 7    # random stream (evolution.rng_for) used for the lesion t
 
 
 # -- small helpers --------------------------------------------------------------------------------
+def _share_below(lower: np.ndarray, upper: np.ndarray) -> float:
+    """Share of generations (where both curves exist) in which ``lower`` < ``upper``."""
+    ok = np.isfinite(lower) & np.isfinite(upper)
+    return float(np.mean(lower[ok] < upper[ok])) if ok.any() else float("nan")
+
+
 def _nanmean(a, axis=None):
     a = np.asarray(a, dtype=float)
     if a.size == 0 or np.all(np.isnan(a)):
@@ -187,8 +193,7 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
     # ---- overall performance (Figure 3)
     def c_fitness():
         n, t = mean_curve(N, "m", "top_fitness"), mean_curve(T, "m", "top_fitness")
-        ok = np.isfinite(n) & np.isfinite(t)
-        frac = float(np.mean(n[ok] > t[ok]))
+        frac = _share_below(t, n)
         early = float(np.nanmean(n[w.early] - t[w.early]))
         final = float(np.nanmean(n[w.final] - t[w.final]))
         return (f"normal > three-layer in {frac:.0%} of generations; mean difference "
@@ -208,8 +213,7 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
 
     def c_successes():
         n, t = mean_curve(N, "m", "top_successes"), mean_curve(T, "m", "top_successes")
-        ok = np.isfinite(n) & np.isfinite(t)
-        frac = float(np.mean(t[ok] < n[ok]))
+        frac = _share_below(t, n)
         fn_, ft = _win(N, "m", "top_successes", w.final), _win(T, "m", "top_successes", w.final)
         return (f"final successful trials (of {_trials(N)}) normal {_ms(fn_, 1)}, three-layer "
                 f"{_ms(ft, 1)}; three-layer fewer in {frac:.0%} of generations",
@@ -220,8 +224,7 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
 
     def c_separations():
         n, t = mean_curve(N, "m", "top_separations"), mean_curve(T, "m", "top_separations")
-        ok = np.isfinite(n) & np.isfinite(t)
-        frac = float(np.mean(t[ok] > n[ok]))
+        frac = _share_below(n, t)
         fn_, ft = (_win(N, "m", "top_separations", w.final),
                    _win(T, "m", "top_separations", w.final))
         return (f"final separations normal {_ms(fn_, 1)}, three-layer {_ms(ft, 1)}; "
@@ -337,8 +340,7 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
 
     def c_elbow_coact():
         co, re = mean_curve(N, "b", "top_elbow_coact"), mean_curve(N, "b", "top_elbow_recip")
-        ok = np.isfinite(co) & np.isfinite(re)
-        frac = float(np.mean(co[ok] < re[ok]))
+        frac = _share_below(co, re)
         cf, rf = _win(N, "b", "top_elbow_coact", w.final), _win(N, "b", "top_elbow_recip", w.final)
         return (f"elbow closer to coactivation in {frac:.0%} of generations; "
                 f"{w.label(w.final)}: coactivation {_ms(cf)}, reciprocal {_ms(rf)}",
@@ -410,8 +412,7 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
             raise ValueError("no normal runs")
         a = np.array([s.start_spread_body for s in intact])
         b = np.array([s.start_spread_body for s in lesioned])
-        ok = np.isfinite(a) & np.isfinite(b)
-        frac = float(np.mean(b[ok] > a[ok])) if ok.any() else np.nan
+        frac = _share_below(a, b)
         return (f"reach-start spread (body frame) intact {_ms(a, 1)} vs lesioned {_ms(b, 1)} "
                 f"units; larger after the lesion in {frac:.0%} of runs",
                 _verdict(frac >= 0.7, _nanmean(b) > _nanmean(a)))
