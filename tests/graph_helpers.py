@@ -70,3 +70,28 @@ def call(executor, client, request, timeout: float = 30.0):
     future = client.call_async(request)
     spin_until(executor, future.done, timeout, f"reply from {client.srv_name}")
     return future.result()
+
+
+def ros_session(tmp_path_factory, domain: int, label: str):
+    """Generator for a module's ROS fixture: its own ROS_DOMAIN_ID (no cross-talk with other
+    modules), rclpy, an executor and node processes; afterwards every process is stopped, every
+    participant destroyed and the domain restored. Yields (rclpy, executor, processes)."""
+    saved = os.environ.get("ROS_DOMAIN_ID")
+    os.environ["ROS_DOMAIN_ID"] = str(domain)
+    import rclpy
+    from econet_ros.nodes import common
+
+    rclpy.init()
+    procs = Processes(tmp_path_factory.mktemp(f"{label}-logs"))
+    executor = common.make_executor()
+    yield rclpy, executor, procs
+    procs.stop_all()
+    for node in list(executor.get_nodes()):     # leave no participant behind for later modules
+        executor.remove_node(node)
+        node.destroy_node()
+    executor.shutdown()
+    rclpy.try_shutdown()
+    if saved is None:
+        os.environ.pop("ROS_DOMAIN_ID", None)
+    else:
+        os.environ["ROS_DOMAIN_ID"] = saved

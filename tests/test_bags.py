@@ -13,32 +13,14 @@ from econet_ros.config import Config
 from econet_ros.controllers import make_controller
 from econet_ros.world import World, sample_setups
 
-from graph_helpers import Processes, call, spin_until
+from graph_helpers import call, ros_session, spin_until
 
 SMALL = {"population": 6, "parents": 2, "trials": 3, "cycles": 40}
 
 
 @pytest.fixture(scope="module")
 def ros(tmp_path_factory):
-    saved = os.environ.get("ROS_DOMAIN_ID")
-    os.environ["ROS_DOMAIN_ID"] = str(200 + os.getpid() % 15)   # distinct from other modules
-    import rclpy
-    from econet_ros.nodes import common
-
-    rclpy.init()
-    procs = Processes(tmp_path_factory.mktemp("bag-logs"))
-    executor = common.make_executor()
-    yield rclpy, executor, procs
-    procs.stop_all()
-    for node in list(executor.get_nodes()):     # leave no participant behind for later modules
-        executor.remove_node(node)
-        node.destroy_node()
-    executor.shutdown()
-    rclpy.try_shutdown()
-    if saved is None:
-        os.environ.pop("ROS_DOMAIN_ID", None)
-    else:
-        os.environ["ROS_DOMAIN_ID"] = saved
+    yield from ros_session(tmp_path_factory, 200 + os.getpid() % 15, "bag")
 
 
 def test_supervisor_records_the_best_econet_through_the_graph(ros, tmp_path, capsys):

@@ -15,7 +15,7 @@ from econet_ros.engine import run_trials
 from econet_ros.plugins import BUILTIN, GROUP
 from econet_ros.world import World, sample_setups
 
-from graph_helpers import REPO, Processes, call, spin_until
+from graph_helpers import REPO, call, ros_session, spin_until
 
 PLUGIN_DIR = REPO / "tests" / "plugin_example"
 
@@ -86,25 +86,7 @@ def test_outside_package_controller_through_the_command_line(tmp_path):
 
 @pytest.fixture(scope="module")
 def ros(tmp_path_factory):
-    saved = os.environ.get("ROS_DOMAIN_ID")
-    os.environ["ROS_DOMAIN_ID"] = str(215 + os.getpid() % 15)   # distinct from other modules
-    import rclpy
-    from econet_ros.nodes import common
-
-    rclpy.init()
-    procs = Processes(tmp_path_factory.mktemp("plugin-logs"))
-    executor = common.make_executor()
-    yield rclpy, executor, procs
-    procs.stop_all()
-    for node in list(executor.get_nodes()):     # leave no participant behind for later modules
-        executor.remove_node(node)
-        node.destroy_node()
-    executor.shutdown()
-    rclpy.try_shutdown()
-    if saved is None:
-        os.environ.pop("ROS_DOMAIN_ID", None)
-    else:
-        os.environ["ROS_DOMAIN_ID"] = saved
+    yield from ros_session(tmp_path_factory, 215 + os.getpid() % 15, "plugin")
 
 
 def test_outside_package_controller_through_the_node(ros):

@@ -177,12 +177,11 @@ class SupervisorNode(Node):
             self._spin_until(lambda: False, 0.1)
 
     # -- one generation through the graph -------------------------------------------------------
-    def test_generation(self, genomes: np.ndarray, seed: int, run: int,
-                        generation: int) -> GenerationResult:
-        """Like Evaluator.test_generation, with world and controller as separate nodes."""
+    def _requests(self, genomes: np.ndarray, setup, seed: int, run: int, generation: int):
+        """The weight swap (one network per econet, each driving its block of trials) and the
+        reset that start a batch of trials exactly as the in-process engine would."""
         e = self.config.evolution
-        setup = self.evaluator.trial_setups(seed, run, generation)
-        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)   # one per econet
+        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
         weights_request = SetWeights.Request(
             n_envs=len(setup), weights_per_network=weights.shape[1],
             weights=common.f64(weights), noise_seed=noise_seed(seed, run, generation),
@@ -191,6 +190,14 @@ class SupervisorNode(Node):
             n_envs=len(setup), cycles=e.cycles, seed=0, object_xy=common.f64(setup.object_xy),
             body_deg=common.f64(setup.body), shoulder_deg=common.f64(setup.shoulder),
             elbow_deg=common.f64(setup.elbow))
+        return weights_request, reset_request
+
+    def test_generation(self, genomes: np.ndarray, seed: int, run: int,
+                        generation: int) -> GenerationResult:
+        """Like Evaluator.test_generation, with world and controller as separate nodes."""
+        e = self.config.evolution
+        setup = self.evaluator.trial_setups(seed, run, generation)
+        weights_request, reset_request = self._requests(genomes, setup, seed, run, generation)
         contact = self._retrying(weights_request, reset_request, e.cycles, run, generation)
         return score_generation(self.config, generation, genomes,
                                 TrialMeasures.from_contact(contact))
@@ -241,16 +248,8 @@ class SupervisorNode(Node):
         best = int(result.parents[0])
         envs = np.arange(best * e.trials, (best + 1) * e.trials)
         setup = self.evaluator.trial_setups(seed, run, generation).take(envs)
-        weights = genome.decode(result.genomes[best:best + 1], e.bits_per_weight,
-                                e.weight_range)
-        weights_request = SetWeights.Request(
-            n_envs=len(setup), weights_per_network=weights.shape[1],
-            weights=common.f64(weights), noise_seed=noise_seed(seed, run, generation),
-            network=self.network)
-        reset_request = ResetTrials.Request(
-            n_envs=len(setup), cycles=e.cycles, seed=0, object_xy=common.f64(setup.object_xy),
-            body_deg=common.f64(setup.body), shoulder_deg=common.f64(setup.shoulder),
-            elbow_deg=common.f64(setup.elbow))
+        weights_request, reset_request = self._requests(result.genomes[best:best + 1], setup,
+                                                        seed, run, generation)
         scored = result.measures.fitness[best]
         custom = {"econet.source": "supervisor_node", "econet.run": str(run),
                   "econet.generation": str(generation), "econet.econet": str(best),
