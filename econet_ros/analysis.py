@@ -282,9 +282,6 @@ class ReachSummary:
     trial_start_spread_body: float  # the same spread at trial start (for reference)
     n_reaches: int
 
-    def as_dict(self) -> dict:
-        return dict(vars(self))
-
 
 def summarize_reaches(trace: Trace) -> ReachSummary:
     pre = pre_contact(trace)

@@ -483,14 +483,13 @@ def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int)
         slowdown("eye"))
 
     def c_temporary():
-        parts, ok, slowed = [], 0, 0
+        parts, ok = [], 0
         for kind in ("hand", "eye"):
             curve = _smooth(mean_curve(N, "b", f"top_{kind}_speed_fix"), max(1, G // 40))
             i = int(np.nanargmin(curve[w.first_quarter]))
             low = float(curve[i])
             final = float(np.nanmean(curve[w.final]))
             dipped = i > 0 and low < 0.95 * float(curve[0])
-            slowed += int(dipped)
             ok += int(dipped and final > 1.1 * low)
             parts.append(f"{kind} {low:.2f} -> {final:.2f}" + ("" if dipped else " (no early dip)"))
         return ("early minimum -> final speed: " + "; ".join(parts), _verdict(ok == 2, ok >= 1))

@@ -279,11 +279,9 @@ class ConditionData:
     name: str
     folder: Path
     generations: int
-    runs_expected: int
     metrics: dict[str, np.ndarray]
     behaviour: dict[str, np.ndarray]
     done: list[int]               # finished generations per run found (metrics.csv rows)
-    behaviour_done: list[int]     # behaviour.csv rows per run
     run_dirs: list[Path]
     problems: list[str]           # human-readable gaps
 
@@ -305,7 +303,7 @@ def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config
 
     generations = config.evolution.generations
     folder = Path(folder)
-    problems, run_dirs, done, bdone = [], [], [], []
+    problems, run_dirs, done = [], [], []
     metric_rows, behaviour_rows = [], []
     if not folder.is_dir():
         problems.append(f"{folder} is missing (no {condition} runs)")
@@ -341,14 +339,13 @@ def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config
                             f"{data.generations_done} generations")
         run_dirs.append(path)
         done.append(data.generations_done)
-        bdone.append(len(brows))
         metric_rows.append(data.metrics)
         behaviour_rows.append(brows)
     metrics = {c: _stack([m[c] for m in metric_rows], generations) for c in METRIC_COLUMNS}
     behaviour = {c: _stack([np.array([float(r[c]) for r in rows]) for rows in behaviour_rows],
                            generations) for c in BEHAVIOUR_COLUMNS}
-    return ConditionData(condition, folder, generations, runs, metrics, behaviour, done,
-                         bdone, run_dirs, problems)
+    return ConditionData(condition, folder, generations, metrics, behaviour, done, run_dirs,
+                         problems)
 
 
 def _stack(series: list[np.ndarray], generations: int) -> np.ndarray:

@@ -58,7 +58,6 @@ class ControllerNode(Node):
             raise NodeError(f"controller '{self.network}' failed to start: "
                             f"{type(error).__name__}: {error}") from None
         self.pending: dict[tuple[int, int], dict] = {}
-        self.answered = (-1, -1)
 
         qos = common.LOCKSTEP_QOS
         self.pub = self.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
