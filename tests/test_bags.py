@@ -112,9 +112,12 @@ def test_interrupted_recording_is_still_a_readable_bag(ros, tmp_path):
     bag = bags.read_bag(path)
     (trial,) = bag.trials
     assert not trial.complete and trial.cycles == 100000
-    # everything before the signal (the recorder does not hold up the lockstep graph, so on a
-    # busy machine it may miss a message now and then; the bag still opens and replays)
+    # everything before the signal: the lockstep topics are keep-all, so a live recorder misses
+    # nothing; only the cycles after the signal are absent (no gaps before them)
     assert bag.count("touch") >= 100 and bag.count("muscle_command") >= 100
+    assert not trial.have_sensors[trial.heard_cycles + 1:].any()
+    commands = int(np.argmin(trial.have_command))
+    assert not trial.have_command[commands:].any() and commands >= trial.heard_cycles - 1
     result = bags.replay(trial)
     assert result.mismatch is None and result.checked == min(
         trial.heard_cycles, int(np.argmin(trial.have_command)))
