@@ -131,7 +131,7 @@ def main() -> int:
     t_in = statistics.median(inproc)
 
     procs = []
-    rclpy.init(args=["bench", "--ros-args", "-p", f"out:=/tmp/econet-bench-unused",
+    rclpy.init(args=["bench", "--ros-args", "-p", "out:=/tmp/econet-bench-unused",
                      *[x for k, v in e.items() for x in ("-p", f"{k}:={v}")]])
     try:
         executor = common.make_executor(common._executor_kind())

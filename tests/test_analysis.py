@@ -4,8 +4,8 @@ import pytest
 
 from econet_ros import analysis as A
 from econet_ros.config import Config
-from econet_ros.controllers import Controller, FourLayerNetwork
-from econet_ros.engine import Trace, run_trials
+from econet_ros.controllers import Controller, FourLayerNetwork, make_controller
+from econet_ros.engine import run_trials
 from econet_ros.world import TrialSetup, World, sample_setups
 
 
@@ -183,13 +183,23 @@ def test_body_frame_undoes_the_body_rotation():
     np.testing.assert_allclose(pts, np.broadcast_to(pts[0], pts.shape), atol=1e-9)
 
 
-def test_summarize_reaches_on_a_real_network():
+def test_summarize_reaches_follows_its_definitions_on_real_reaches():
     config = Config()
-    weights = np.random.default_rng(0).uniform(-10, 10, (2, FourLayerNetwork(1, config).n_params))
-    setup = sample_setups(np.random.default_rng(1), 10, config.model)
-    trace = A.run_networks(config, "normal", weights, setup, 10)
+    n, cycles = 12, 60
+    controller = make_controller("reacher", n, config)
+    _, trace = run_trials(World(n, config.model), controller,
+                          sample_setups(np.random.default_rng(1), n, config.model), cycles,
+                          record=True)
     summary = A.summarize_reaches(trace)
-    assert 0.0 <= summary.success_rate <= 1.0
-    assert summary.n_reaches == int(trace.touch.any(axis=0).sum() - trace.touch[0].sum()) or \
-        summary.n_reaches <= int(trace.touch.any(axis=0).sum())
-    assert trace.touch.shape[1] == 20
+    touched = trace.touch.any(axis=0)
+    first = trace.touch.argmax(axis=0)
+    assert touched.sum() >= n // 2                        # the reacher gives us reaches
+    assert summary.success_rate == pytest.approx(touched.mean())
+    assert summary.n_reaches == int((touched & (first > 0)).sum())
+    starts, valid = A.reach_starts(trace)
+    closing = trace.hand_object_distance[1:] < trace.hand_object_distance[:-1] - A.MOVE_EPS
+    for env in np.flatnonzero(valid):
+        s, c = starts[env], first[env]
+        assert 0 <= s < c and closing[s:c, env].all()     # unbroken approach to first contact
+        assert s == 0 or not closing[s - 1, env]          # ...and no longer
+    assert summary.final_approach_cycles == pytest.approx(np.mean(first[valid] - starts[valid]))

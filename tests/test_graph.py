@@ -5,7 +5,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -15,9 +14,8 @@ os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)   # no cross-talk wit
 import rclpy  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
-from econet_msgs.msg import EvolutionProgress, MuscleCommand, Proprioception, Retina, Touch  # noqa: E402,E501
+from econet_msgs.msg import EvolutionProgress, MuscleCommand, Proprioception, Retina  # noqa: E402
 from econet_msgs.srv import ResetTrials, SetWeights  # noqa: E402
-from econet_ros import genome  # noqa: E402
 from econet_ros.config import Config  # noqa: E402
 from econet_ros.evolution import Evaluator, initial_genomes  # noqa: E402
 from econet_ros.experiment import run_condition  # noqa: E402
