@@ -14,11 +14,15 @@ are ordered touch, visual hidden, proprioceptive hidden).
 from __future__ import annotations
 
 import math
+import struct
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
+from decimal import Decimal, localcontext
 
 import numba
 import numpy as np
+from numba import types
+from numba.extending import intrinsic
 
 from .config import Config
 from .world import N_MOTOR, N_PROPRIO, Observation
@@ -102,14 +106,29 @@ class FeedForwardNetwork(Controller):
         self.block = self.n_envs // params.shape[0]
 
     def act(self, obs: Observation) -> np.ndarray:
-        return self.forward(obs.network_input())
+        return self._outputs(obs.vision, obs.proprio, obs.touch)
 
     def forward(self, inputs: np.ndarray) -> np.ndarray:
         """Outputs (n, 5) for network inputs (n, visual_units + 5)."""
-        buffer = np.zeros((self.buffer_size, self.n_envs))
-        buffer[:inputs.shape[1]] = inputs.T
-        _forward_batch(buffer, self.weights, self.block, self.layers)
-        return buffer[-N_MOTOR:].T.copy()
+        inputs = np.asarray(inputs, dtype=np.float64)
+        units = self.config.model.visual_units
+        if inputs.ndim != 2:
+            raise ValueError(f"network inputs must have shape ({self.n_envs}, {units + 5}), "
+                             f"got {inputs.shape}")
+        return self._outputs(inputs[:, :units], inputs[:, units:-1], inputs[:, -1])
+
+    def _outputs(self, vision: np.ndarray, proprio: np.ndarray, touch: np.ndarray) -> np.ndarray:
+        """Outputs for the inputs by sense, read in place (no concatenated copy)."""
+        vision, proprio, touch = (np.asarray(a, dtype=np.float64) for a in (vision, proprio, touch))
+        n, units = self.n_envs, self.config.model.visual_units
+        if vision.shape != (n, units) or proprio.shape != (n, N_PROPRIO) or touch.shape != (n,):
+            raise ValueError(f"network inputs for {n} environments must be vision ({n}, {units}), "
+                             f"proprioception ({n}, {N_PROPRIO}) and touch ({n},); got "
+                             f"{vision.shape}, {proprio.shape}, {touch.shape}")
+        out = np.empty((n, N_MOTOR))
+        _forward_batch(vision, proprio, touch, self.weights, self.block, self.layers,
+                       self.buffer_size, out)
+        return out
 
     def compiled(self, cycles: int) -> CompiledPolicy:
         return CompiledPolicy(self.weights, self.block, self.layers, self.buffer_size)
@@ -174,6 +193,96 @@ def make_controller(name: str, n_envs: int, config: Config) -> Controller:
     return resolve(name)(n_envs, config)
 
 
+# --- the logistic, vectorised -------------------------------------------------------------------
+# math.exp is a libm call per value, so the loop over a block of environments does not vectorise
+# and exp dominates the network's cost. ``exp_near`` is the same algorithm, constants and
+# rounding steps as glibc's exp (from Arm's optimized-routines, in its FMA build, which glibc
+# picks on CPUs with FMA): it returns math.exp's exact bits there, but as plain arithmetic that
+# LLVM vectorises. It covers |x| < EXP_NEAR_LIMIT, where glibc takes this same path.
+
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """a * b + c with one rounding (llvm.fma; a vfmadd instruction on CPUs with FMA)."""
+    def codegen(context, builder, signature, args):
+        return builder.fma(*args)
+    return types.float64(types.float64, types.float64, types.float64), codegen
+
+
+@intrinsic
+def _bits(typingctx, x):
+    """The IEEE-754 bits of a float64, as an int64."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(types.int64))
+    return types.int64(types.float64), codegen
+
+
+@intrinsic
+def _from_bits(typingctx, i):
+    """The float64 with the given IEEE-754 bits."""
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(types.float64))
+    return types.float64(types.int64), codegen
+
+
+def _exp_table(n: int) -> np.ndarray:
+    """glibc's table for 2^(k/n), k < n: the pair (bits of the tail t, bits of h minus
+    k << (52 - log2 n)) with h = 2^(k/n) rounded and h * (1 + t) closer still."""
+    def bits(x: float) -> int:
+        return struct.unpack("<q", struct.pack("<d", x))[0]
+    table = np.zeros(2 * n, dtype=np.int64)
+    with localcontext() as context:
+        context.prec = 60
+        for k in range(n):
+            exact = (Decimal(2).ln() * k / n).exp()
+            head = float(exact)
+            table[2 * k] = bits(float((exact - Decimal(head)) / Decimal(head)))
+            table[2 * k + 1] = bits(head) - (k << 45)
+    return table
+
+
+_EXP_N = 128                              # table entries: exp(x) = 2^(k/N) * exp(r)
+_EXP_TABLE = _exp_table(_EXP_N)
+_INV_LN2_N = float.fromhex("0x1.71547652b82fep7")          # N / ln 2
+_SHIFT = float.fromhex("0x1.8p52")                         # rounds to an integer when added
+_NEG_LN2_HI_N = float.fromhex("-0x1.62e42fefa0000p-8")     # -ln 2 / N, in two parts
+_NEG_LN2_LO_N = float.fromhex("-0x1.cf79abc9e3b3ap-47")
+_C2 = float.fromhex("0x1.ffffffffffdbdp-2")                # exp(r) ~ 1 + r + C2 r^2 + ...
+_C3 = float.fromhex("0x1.555555555543cp-3")
+_C4 = float.fromhex("0x1.55555cf172b91p-5")
+_C5 = float.fromhex("0x1.1111167a4d017p-7")
+EXP_NEAR_LIMIT = 512.0                    # glibc handles larger |x| (and 0) separately
+
+
+@numba.njit(cache=True, inline="always")
+def exp_near(x):
+    """exp(x) for |x| < EXP_NEAR_LIMIT: x = k ln2/N + r, exp(x) = 2^(k/N) * exp(r), with
+    2^(k/N) from the table and exp(r) from a polynomial (error under 0.51 ulp)."""
+    kd = _fma(x, _INV_LN2_N, _SHIFT)
+    ki = _bits(kd)                        # k in the low bits
+    kd -= _SHIFT
+    r = _fma(kd, _NEG_LN2_LO_N, _fma(kd, _NEG_LN2_HI_N, x))
+    index = 2 * (ki & (_EXP_N - 1))
+    tail = _from_bits(_EXP_TABLE[index])      # 2^(k/N) ~ scale * (1 + tail)
+    scale = _from_bits(_EXP_TABLE[index + 1] + (ki << 45))
+    r2 = r * r
+    tmp = _fma(r2 * r2, _fma(r, _C5, _C4), _fma(_fma(r, _C3, _C2), r2, r + tail))
+    return _fma(scale, tmp, scale)
+
+
+@numba.njit(cache=True, inline="always")
+def logistic(total, out):
+    """out = 1 / (1 + exp(-total)), elementwise; vectorised, with math.exp only for the rare
+    |total| >= EXP_NEAR_LIMIT (or NaN)."""
+    far = False
+    for env in range(total.shape[0]):
+        out[env] = 1.0 / (1.0 + exp_near(-total[env]))
+        far |= not abs(total[env]) < EXP_NEAR_LIMIT
+    if far:
+        for env in range(total.shape[0]):
+            if not abs(total[env]) < EXP_NEAR_LIMIT:
+                out[env] = 1.0 / (1.0 + math.exp(-total[env]))
+
+
 @numba.njit(cache=True, inline="always")
 def forward_block(buffer, weights, layers, total):
     """One network driving a block of environments: buffer is (activations, envs), and each
@@ -189,12 +298,26 @@ def forward_block(buffer, weights, layers, total):
                 for env in range(total.shape[0]):
                     total[env] += weight * buffer[j, env]
                 w += 1
-            for env in range(total.shape[0]):
-                buffer[unit, env] = 1.0 / (1.0 + math.exp(-total[env]))
+            logistic(total, buffer[unit])
 
 
 @numba.njit(cache=True, parallel=True)
-def _forward_batch(buffer, weights, block, layers):
-    """buffer is (activations, n_envs); network k drives environments [k*block, (k+1)*block)."""
-    for k in numba.prange(weights.shape[0]):
-        forward_block(buffer[:, k * block:(k + 1) * block], weights[k], layers, np.zeros(block))
+def _forward_batch(vision, proprio, touch, weights, block, layers, buffer_size, out):
+    """Outputs ``out`` (n_envs, 5) for inputs [vision, proprioception, touch] per environment;
+    network k drives environments [k*block, (k+1)*block). Activations are (units, envs of the
+    block), as in forward_block; all scratch is allocated once, outside the parallel loop."""
+    n_blocks, n_vision = weights.shape[0], vision.shape[1]
+    buffer = np.empty((n_blocks, buffer_size, block))
+    total = np.empty((n_blocks, block))
+    for k in numba.prange(n_blocks):
+        for m in range(block):
+            i = k * block + m
+            for j in range(n_vision):
+                buffer[k, j, m] = vision[i, j]
+            for j in range(N_PROPRIO):
+                buffer[k, n_vision + j, m] = proprio[i, j]
+            buffer[k, n_vision + N_PROPRIO, m] = touch[i]
+        forward_block(buffer[k], weights[k], layers, total[k])
+        for m in range(block):
+            for u in range(N_MOTOR):
+                out[k * block + m, u] = buffer[k, buffer_size - N_MOTOR + u, m]

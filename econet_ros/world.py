@@ -150,9 +150,6 @@ class World:
         self.elbow = np.full(n_envs, model.joint_max_deg)
         self.object_xy = np.full((n_envs, 2), model.reach_max)
         self.cycle = 0
-        # The network input layout: vision, proprioception, touch side by side.
-        self.senses = np.zeros((n_envs, model.visual_units + N_PROPRIO + 1))
-        self.fixated = np.zeros(n_envs, dtype=np.bool_)
         self.refresh()
 
     def reset(self, setup: TrialSetup) -> Observation:
@@ -170,23 +167,26 @@ class World:
         return self.observe()
 
     def observe(self) -> Observation:
+        """The current senses. Its arrays are views of arrays the world never writes again (each
+        cycle senses into new ones), which spares copying them."""
         units = self.model.visual_units
-        return Observation(self.cycle, self.senses[:, :units].copy(),
-                           self.senses[:, units:units + N_PROPRIO].copy(),
-                           self.senses[:, -1].copy(), self.fixated.copy())
+        return Observation(self.cycle, self.senses[:, :units],
+                           self.senses[:, units:units + N_PROPRIO], self.senses[:, -1],
+                           self.fixated)
 
     def step(self, motor: np.ndarray) -> Observation:
-        """Apply one motor command per environment, advance one cycle, sense again."""
+        """Apply one motor command per environment (clipped to [0, 1]), advance one cycle,
+        sense again."""
         motor = np.asarray(motor, dtype=np.float64)
         if motor.shape != (self.n_envs, N_MOTOR):
             raise ValueError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "
                              f"got {motor.shape}")
-        if not np.all(np.isfinite(motor)):
+        senses, fixated = self._new_senses()
+        if not _step_batch(self.body, self.shoulder, self.elbow, motor, self.object_xy,
+                           self.geometry, self.edges[0], self.edges[1], senses, fixated):
             raise ValueError("motor command contains NaN or infinite values")
-        _move_batch(self.body, self.shoulder, self.elbow, np.clip(motor, 0.0, 1.0),
-                    self.geometry)
+        self.senses, self.fixated = senses, fixated
         self.cycle += 1
-        self.refresh()
         return self.observe()
 
     def arm_points(self) -> np.ndarray:
@@ -200,8 +200,15 @@ class World:
 
     def refresh(self) -> None:
         """Recompute the senses from the state arrays (after changing them directly)."""
+        self.senses, self.fixated = self._new_senses()
         _sense_batch(self.body, self.shoulder, self.elbow, self.object_xy, self.geometry,
                      self.edges[0], self.edges[1], self.senses, self.fixated)
+
+    def _new_senses(self) -> tuple[np.ndarray, np.ndarray]:
+        """Arrays for one cycle's senses: the network input layout (vision, proprioception,
+        touch side by side, per environment) and the fixation flags."""
+        return (np.empty((self.n_envs, self.model.visual_units + N_PROPRIO + 1)),
+                np.empty(self.n_envs, dtype=np.bool_))
 
 
 # --- compiled kernels --------------------------------------------------------------------------
@@ -231,20 +238,19 @@ def hand_gap(bx, by, tx, ty, ox, oy, radius):
 
 
 @numba.njit(cache=True, inline="always")
+def _clip01(x):
+    return min(max(x, 0.0), 1.0)
+
+
+@numba.njit(cache=True, inline="always")
 def move(body, shoulder, elbow, eye, s_flex, s_ext, e_flex, e_ext, geo):
-    """The state after one motor command (outputs in [0, 1])."""
+    """The state after one motor command (outputs clipped to [0, 1])."""
+    eye, s_flex, s_ext = _clip01(eye), _clip01(s_flex), _clip01(s_ext)
+    e_flex, e_ext = _clip01(e_flex), _clip01(e_ext)
     body = body + 2.0 * geo.max_rotation * (eye - 0.5)
     shoulder = min(max(shoulder - geo.max_rotation * (s_flex - s_ext), 0.0), geo.joint_max)
     elbow = min(max(elbow - geo.max_rotation * (e_flex - e_ext), 0.0), geo.joint_max)
     return body, shoulder, elbow
-
-
-@numba.njit(cache=True, parallel=True)
-def _move_batch(body, shoulder, elbow, motor, geo):
-    for i in numba.prange(body.shape[0]):
-        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
-                                              motor[i, 1], motor[i, 2], motor[i, 3],
-                                              motor[i, 4], geo)
 
 
 @numba.njit(cache=True)
@@ -424,3 +430,20 @@ def _sense_batch(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, senses, 
     for i in numba.prange(body.shape[0]):
         fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
                            edge_x, edge_y, senses[i])
+
+
+@numba.njit(cache=True, parallel=True)
+def _step_batch(body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, senses, fixated):
+    """One cycle of World.step in one parallel launch: move, then sense. Returns False,
+    changing nothing, if a command is not finite."""
+    for i in range(motor.shape[0]):
+        for u in range(N_MOTOR):
+            if not math.isfinite(motor[i, u]):
+                return False
+    for i in numba.prange(body.shape[0]):
+        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
+                                              motor[i, 1], motor[i, 2], motor[i, 3],
+                                              motor[i, 4], geo)
+        fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
+                           edge_x, edge_y, senses[i])
+    return True

@@ -2,10 +2,14 @@
 """Benchmark of the in-process model core: econet-cycles per second and the time of a full
 paper-size run (100 econets x 20 trials x 100 cycles x 200 generations = 4e7 econet-cycles).
 
-    scripts/run-python scripts/bench_core.py [--generations N] [--condition normal]
+    . scripts/env.sh && python scripts/bench_core.py [--generations N] [--condition normal] [--full]
+    . scripts/env.sh && python scripts/bench_core.py --per-cycle   # the nodes' per-cycle API
 
 It times N paper-size generations after one warm-up generation (which compiles the kernels)
 and prints the per-kernel split of one generation, so a regression shows where it came from.
+--per-cycle instead times World.step/observe and FeedForwardNetwork.act/forward for 2000
+environments (100 networks of random weights), as the world and controller nodes call them;
+NUMBA_NUM_THREADS=1 gives their cost with one numba thread per node.
 """
 from __future__ import annotations
 
@@ -13,11 +17,15 @@ import argparse
 import cProfile
 import pstats
 import time
+import timeit
 
 import numba
+import numpy as np
 
 from econet_ros.config import CONDITIONS, Config
+from econet_ros.controllers import _forward_batch, make_controller
 from econet_ros.evolution import Evaluator, evolve
+from econet_ros.world import World, _sense_batch, sample_setups
 
 
 def main() -> None:
@@ -27,7 +35,12 @@ def main() -> None:
     parser.add_argument("--condition", choices=CONDITIONS, default="normal")
     parser.add_argument("--full", action="store_true",
                         help="also time one complete 200-generation run")
+    parser.add_argument("--per-cycle", action="store_true",
+                        help="time the per-cycle API (2000 environments) instead")
     args = parser.parse_args()
+    if args.per_cycle:
+        per_cycle(Config().replace(**{"evolution.condition": args.condition}))
+        return
 
     config = Config().replace(**{"evolution.condition": args.condition,
                                  "evolution.generations": args.generations})
@@ -57,6 +70,38 @@ def main() -> None:
     profile.runcall(evaluator.test_generation, evaluator_genomes(evaluator), 1, 1, 0)
     print("\nwhere one generation's time goes:")
     pstats.Stats(profile).sort_stats("tottime").print_stats(6)
+
+
+def per_cycle(config: Config, n_envs: int = 2000, n_networks: int = 100) -> None:
+    rng = np.random.default_rng(0)
+    world = World(n_envs, config.model)
+    world.reset(sample_setups(rng, n_envs, config.model))
+    net = make_controller(config.evolution.condition, n_envs, config)
+    net.load(rng.uniform(-10, 10, (n_networks, net.n_params)))
+    obs = world.observe()
+    inputs = obs.network_input()
+    motor = net.act(obs)
+    g = world.geometry
+    senses, fixated = world.senses.copy(), world.fixated.copy()
+    units = config.model.visual_units
+    out = np.empty((n_envs, 5))
+    calls = {
+        "World.step": lambda: world.step(motor),
+        "World.observe": world.observe,
+        "FeedForwardNetwork.act": lambda: net.act(obs),
+        "FeedForwardNetwork.forward": lambda: net.forward(inputs),
+        "_sense_batch": lambda: _sense_batch(world.body, world.shoulder, world.elbow,
+                                             world.object_xy, g, world.edges[0],
+                                             world.edges[1], senses, fixated),
+        "_forward_batch": lambda: _forward_batch(inputs[:, :units], inputs[:, units:-1],
+                                                 inputs[:, -1], net.weights, net.block,
+                                                 net.layers, net.buffer_size, out),
+    }
+    print(f"threads: {numba.get_num_threads()}  {n_envs} environments, {n_networks} networks")
+    for name, call in calls.items():
+        call()
+        best = min(timeit.repeat(call, number=200, repeat=5)) / 200
+        print(f"{name:28s} {best * 1e3:.3f} ms per call")
 
 
 def evaluator_genomes(evaluator: Evaluator):

@@ -1,11 +1,15 @@
 """The engine's two drivers (whole trials compiled, or one act() call per cycle) and the
-controllers' batching must not change a single bit of the results."""
+controllers' batching must not change a single bit of the results; the vectorised exp behind
+the networks' logistic units must be math.exp."""
+import math
+
+import numba
 import numpy as np
 import pytest
 
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.controllers import make_controller
+from econet_ros.controllers import EXP_NEAR_LIMIT, exp_near, logistic, make_controller
 from econet_ros.engine import TrialMeasures, run_trials
 from econet_ros.world import World, sample_setups
 
@@ -85,3 +89,60 @@ def test_trial_measures_from_a_contact_history():
     np.testing.assert_array_equal(m.success, [True, False, True])
     np.testing.assert_array_equal(m.latency, [2, 5, 3])
     np.testing.assert_array_equal(m.separations, [1, 0, 0])
+
+
+@numba.njit
+def _exp_near_all(x, out):
+    for i in range(x.shape[0]):
+        out[i] = exp_near(x[i])
+
+
+@numba.njit
+def _logistic_scalar(total):
+    """The formula as the networks computed it before (math.exp, one value at a time)."""
+    return np.array([1.0 / (1.0 + math.exp(-t)) for t in total])
+
+
+@numba.njit
+def _logistic(total):
+    out = np.empty_like(total)
+    logistic(total, out)
+    return out
+
+
+def test_vectorised_exp_is_math_exp():
+    # exp_near repeats glibc's exp step by step: on CPUs with FMA (where glibc runs the same
+    # FMA build) it gives math.exp's exact bits; elsewhere glibc's own result may differ by 1 ulp.
+    rng = np.random.default_rng(0)
+    x = np.concatenate([
+        rng.uniform(-EXP_NEAR_LIMIT, EXP_NEAR_LIMIT, 1_000_000),
+        rng.uniform(-20, 20, 1_000_000),                                  # the network's range
+        rng.choice([-1, 1], 200_000) * np.exp(rng.uniform(-745, np.log(511.9), 200_000)),
+        [0.0, -0.0, 5e-324, -5e-324, 2.0 ** -54, -2.0 ** -54, 1e-300, 511.999, -511.999]])
+    got = np.empty_like(x)
+    _exp_near_all(x, got)
+    want = np.array([math.exp(v) for v in x])
+    ulps = np.abs(got.view(np.int64) - want.view(np.int64))
+    assert ulps.max() <= 1
+    assert (ulps == 0).mean() > 0.999
+
+
+def test_logistic_matches_the_scalar_formula_everywhere():
+    rng = np.random.default_rng(1)
+    total = np.concatenate([rng.uniform(-100, 100, 10_000),
+                            [0.0, -0.0, 511.9, -511.9, 512.0, -512.0, 600.0, -600.0, 800.0,
+                             -800.0, 1e5, -1e5, np.inf, -np.inf]])
+    want = _logistic_scalar(total)
+    np.testing.assert_array_max_ulp(_logistic(total), want, maxulp=1)
+    far = np.abs(total) >= EXP_NEAR_LIMIT                   # these go through math.exp itself
+    np.testing.assert_array_equal(_logistic(total)[far], want[far])
+    assert np.isnan(_logistic(np.array([np.nan]))[0])
+
+
+def test_network_refuses_inputs_of_the_wrong_shape():
+    net = make_controller("normal", 4, CONFIG)
+    net.load(np.zeros((2, net.n_params)))
+    assert net.forward(np.zeros((4, 13))).shape == (4, 5)
+    for bad in (np.zeros((3, 13)), np.zeros((4, 12)), np.zeros(13)):
+        with pytest.raises(ValueError, match="network inputs"):
+            net.forward(bad)

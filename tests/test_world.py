@@ -177,3 +177,37 @@ def test_objects_are_placed_within_reach():
     distance = np.hypot(*setup.object_xy.T)
     assert distance.min() >= MODEL.reach_min and distance.max() <= MODEL.reach_max
     assert setup.shoulder.min() >= 0 and setup.shoulder.max() <= 180
+
+
+def test_an_observation_is_not_changed_by_later_cycles():
+    world = world_at(0, 89.5, 180, polar(30, 0.5))
+    first = world.observe()
+    kept = [a.copy() for a in (first.vision, first.proprio, first.touch, first.fixated)]
+    for _ in range(3):
+        world.step(np.array([[1.0, 1.0, 0.0, 1.0, 0.0]]))
+    world.refresh()
+    for before, now in zip(kept, (first.vision, first.proprio, first.touch, first.fixated)):
+        np.testing.assert_array_equal(before, now)
+
+
+def test_a_refused_motor_command_changes_nothing():
+    world = World(3, MODEL)
+    world.reset(sample_setups(np.random.default_rng(2), 3, MODEL))
+    state = (world.body.copy(), world.shoulder.copy(), world.elbow.copy(), world.cycle)
+    motor = np.full((3, 5), 0.9)
+    motor[2, 4] = np.inf
+    with pytest.raises(ValueError, match="infinite"):
+        world.step(motor)
+    np.testing.assert_array_equal(world.body, state[0])
+    np.testing.assert_array_equal(world.shoulder, state[1])
+    np.testing.assert_array_equal(world.elbow, state[2])
+    assert world.cycle == state[3]
+
+
+def test_motor_outputs_outside_0_1_are_clipped():
+    clipped, raw = world_at(0, 90, 90), world_at(0, 90, 90)
+    clipped.step(np.array([[1.0, 1.0, 0.0, 0.0, 1.0]]))
+    raw.step(np.array([[7.0, 3.0, -2.0, -1.0, 1.5]]))
+    assert (raw.body[0], raw.shoulder[0], raw.elbow[0]) == \
+        (clipped.body[0], clipped.shoulder[0], clipped.elbow[0])
+
