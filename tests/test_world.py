@@ -211,3 +211,22 @@ def test_motor_outputs_outside_0_1_are_clipped():
     assert (raw.body[0], raw.shoulder[0], raw.elbow[0]) == \
         (clipped.body[0], clipped.shoulder[0], clipped.elbow[0])
 
+
+def test_kernel_cache_folder_follows_every_module_with_kernels(tmp_path):
+    """A change to any module whose functions a cached kernel may inline gives a new numba
+    cache folder (numba itself only checks the defining file's timestamp)."""
+    import shutil
+    from pathlib import Path
+
+    import econet_ros
+    package = Path(econet_ros.__file__).parent
+    for name in econet_ros._KERNEL_MODULES:
+        shutil.copy(package / name, tmp_path / name)
+    before = econet_ros._kernel_cache_dir(tmp_path)
+    assert before == econet_ros._kernel_cache_dir(tmp_path)
+    seen = {before}
+    for name in econet_ros._KERNEL_MODULES:
+        with open(tmp_path / name, "a") as source:
+            source.write("\n# edited\n")
+        seen.add(econet_ros._kernel_cache_dir(tmp_path))
+    assert len(seen) == 1 + len(econet_ros._KERNEL_MODULES)
