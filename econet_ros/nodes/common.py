@@ -12,7 +12,11 @@ from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+
 from ..config import Config, ConfigError, load_config
+from ..world import N_PROPRIO, Observation
+from .wire import Codec
 
 # Relative names (turtlesim style): run several graphs side by side under namespaces.
 RETINA = "retina"
@@ -48,7 +52,7 @@ class NodeError(Exception):
     """Bad input at start-up (a parameter, a config file): printed as one line, exit 2."""
 
 
-# -- arrays <-> message fields --------------------------------------------------------------
+# -- arrays <-> message fields (typed messages: services, trial starts) -----------------------
 # rclpy stores float64[] / uint8[] fields as array.array. Assigning a numpy array goes through
 # array.array(typecode, ndarray), which converts element by element (~2 ms for 16,000 doubles);
 # handing over an array.array built from the raw bytes costs two memcpys (~15 us). On receipt the
@@ -58,10 +62,6 @@ def f64(values: np.ndarray) -> array.array:
     return array.array("d", np.ascontiguousarray(values, dtype=np.float64).tobytes())
 
 
-def u8(values: np.ndarray) -> array.array:
-    return array.array("B", np.ascontiguousarray(values, dtype=np.uint8).tobytes())
-
-
 def as_f64(field) -> np.ndarray:
     """A float64[] field as a read-only numpy view (no copy)."""
     return np.frombuffer(field, dtype=np.float64) if len(field) else np.zeros(0)
@@ -69,6 +69,31 @@ def as_f64(field) -> np.ndarray:
 
 def as_u8(field) -> np.ndarray:
     return np.frombuffer(field, dtype=np.uint8) if len(field) else np.zeros(0, dtype=np.uint8)
+
+
+# -- lockstep messages as bytes (see wire) -----------------------------------------------------
+CODECS = {"touch": Codec(Touch), "proprioception": Codec(Proprioception),
+          "retina": Codec(Retina), "muscle_command": Codec(MuscleCommand)}
+SENSORS = ("touch", "proprioception", "retina")      # in the order the world publishes them
+
+
+def encode_sensors(obs: Observation, trial: int, final: bool) -> dict[str, bytes]:
+    """A cycle's three sensor messages, serialized straight from the observation's arrays."""
+    head = dict(trial=trial, cycle=obs.cycle, final=final, n_envs=obs.touch.shape[0])
+    return {"touch": CODECS["touch"].encode(**head, contact=obs.touch > 0.5),
+            "proprioception": CODECS["proprioception"].encode(**head, stretch=obs.proprio),
+            "retina": CODECS["retina"].encode(**head, units_per_env=obs.vision.shape[1],
+                                              activation=obs.vision, fixated=obs.fixated)}
+
+
+def decode_observation(parts: dict[str, dict]) -> Observation:
+    """The observation a cycle's three decoded sensor messages describe (arrays read in place,
+    so read-only)."""
+    retina, proprio, touch = parts["retina"], parts["proprioception"], parts["touch"]
+    n = retina["n_envs"]
+    return Observation(retina["cycle"], retina["activation"].reshape(n, retina["units_per_env"]),
+                       proprio["stretch"].reshape(n, N_PROPRIO),
+                       touch["contact"].astype(np.float64), retina["fixated"].astype(bool))
 
 
 # -- parameters ---------------------------------------------------------------------------

@@ -17,11 +17,13 @@ from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
 from econet_msgs.srv import SetWeights
 
 from ..plugins import PluginError, resolve
-from ..world import N_PROPRIO, Observation, World
+from ..world import World
 from . import common
 from .common import NodeError
+from .wire import WireError
 
-PARTS = ("retina", "proprioception", "touch")
+CODECS = common.CODECS
+COMMAND = CODECS["muscle_command"]
 MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sensor messages
 
 
@@ -50,23 +52,26 @@ class ControllerNode(Node):
         try:
             self.cls = resolve(self.network)
             self.controller = self.cls(n_envs, self.config)
-            # compile (or load) the network's kernel now, not in the first timed cycle
-            self.cls(1, self.config).act(World(1, self.config.model).observe())
+            # compile (or load) the network's kernel now, not in the first timed cycle, for
+            # sensors as they arrive (read-only arrays)
+            sensors = common.encode_sensors(World(1, self.config.model).observe(), 0, False)
+            self.cls(1, self.config).act(common.decode_observation(
+                {part: CODECS[part].decode(data) for part, data in sensors.items()}))
         except PluginError as error:
             raise NodeError(str(error)) from None
         except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
             raise NodeError(f"controller '{self.network}' failed to start: "
                             f"{type(error).__name__}: {error}") from None
-        self.pending: dict[tuple[int, int], dict] = {}
+        self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
 
         qos = common.LOCKSTEP_QOS
         self.pub = self.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
-        self.create_subscription(Retina, common.RETINA,
-                                 lambda msg: self._on_part("retina", msg), qos)
-        self.create_subscription(Proprioception, common.PROPRIOCEPTION,
-                                 lambda msg: self._on_part("proprioception", msg), qos)
-        self.create_subscription(Touch, common.TOUCH, lambda msg: self._on_part("touch", msg),
-                                 qos)
+        for part, msg_type, topic in (("retina", Retina, common.RETINA),
+                                      ("proprioception", Proprioception, common.PROPRIOCEPTION),
+                                      ("touch", Touch, common.TOUCH)):
+            self.create_subscription(msg_type, topic,
+                                     lambda data, part=part: self._on_part(part, data), qos,
+                                     raw=True)
         self.create_service(SetWeights, common.SET_WEIGHTS, self._on_set_weights)
         self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
@@ -121,15 +126,23 @@ class ControllerNode(Node):
         return None
 
     # -- sensors -> command -------------------------------------------------------------------
-    def _on_part(self, part: str, msg) -> None:
-        key = (msg.trial, msg.cycle)
+    def _on_part(self, part: str, data: bytes) -> None:
+        """A serialized sensor message (see wire); the command goes out once a cycle's three
+        messages are in."""
+        try:
+            msg = CODECS[part].decode(data)
+        except WireError as error:
+            self.get_logger().error(f"ignored a {part} message: {error}",
+                                    throttle_duration_sec=5.0)
+            return
+        key = (msg["trial"], msg["cycle"])
         parts = self.pending.get(key)
         if parts is None:
             if len(self.pending) >= MAX_PENDING:
                 self.pending.pop(next(iter(self.pending)))
             parts = self.pending[key] = {}
         parts[part] = msg
-        if len(parts) == len(PARTS):
+        if len(parts) == len(common.SENSORS):
             # Everything received before this cycle is stale or incomplete for good.
             for old in list(self.pending):
                 del self.pending[old]
@@ -138,24 +151,19 @@ class ControllerNode(Node):
             self._act(parts)
 
     def _act(self, parts: dict) -> None:
-        retina, proprio, touch = (parts[p] for p in PARTS)
-        if retina.final:
+        retina = parts["retina"]
+        if retina["final"]:
             return                      # the trial is over: the world takes no command
-        n = retina.n_envs
+        n = retina["n_envs"]
         if n != self.controller.n_envs:
             self.get_logger().warning(
                 f"sensors for {n} environment(s), but the controller has "
                 f"{self.controller.n_envs}: call set_weights with n_envs={n}",
                 throttle_duration_sec=5.0)
             return
-        vision = common.as_f64(retina.activation).reshape(n, retina.units_per_env)
-        stretch = common.as_f64(proprio.stretch).reshape(n, N_PROPRIO)
-        contact = common.as_u8(touch.contact).astype(np.float64)
-        fixated = common.as_u8(retina.fixated).astype(bool)
-        motor = self.controller.act(Observation(retina.cycle, vision, stretch, contact,
-                                                fixated))
-        self.pub.publish(MuscleCommand(trial=retina.trial, cycle=retina.cycle, n_envs=n,
-                                       activation=common.f64(motor)))
+        motor = self.controller.act(common.decode_observation(parts))
+        self.pub.publish(COMMAND.encode(trial=retina["trial"], cycle=retina["cycle"], n_envs=n,
+                                        activation=motor))
 
 
 def main(args: list[str] | None = None) -> int:

@@ -43,6 +43,9 @@ from ..experiment import run_folder, summarize
 from ..results import RunStore
 from . import common
 from .common import NodeError
+from .wire import WireError
+
+TOUCH = common.CODECS["touch"]
 
 
 class GenerationFailed(Exception):
@@ -123,7 +126,8 @@ class SupervisorNode(Node):
         self.touch: dict[int, dict[int, np.ndarray]] = {}   # trial -> cycle -> contact
         self.last_touch = time.monotonic()
         self.repeats = 0
-        self.create_subscription(Touch, common.TOUCH, self._on_touch, common.LOCKSTEP_QOS)
+        self.create_subscription(Touch, common.TOUCH, self._on_touch, common.LOCKSTEP_QOS,
+                                 raw=True)
         self.pub_progress = self.create_publisher(EvolutionProgress, common.PROGRESS,
                                                   common.PROGRESS_QOS)
         self.set_weights = self.create_client(SetWeights, common.SET_WEIGHTS)
@@ -131,15 +135,20 @@ class SupervisorNode(Node):
         self.executor_ = None
 
     # -- plumbing -----------------------------------------------------------------------------
-    def _on_touch(self, msg: Touch) -> None:
-        cycles = self.touch.get(msg.trial)
-        if cycles is None:
-            cycles = self.touch[msg.trial] = {}
-        if msg.cycle in cycles:
+    def _on_touch(self, data: bytes) -> None:
+        """A serialized Touch message (see wire)."""
+        try:
+            msg = TOUCH.decode(data)
+        except WireError as error:
+            self.get_logger().error(f"ignored a touch message: {error}")
+            return
+        trial, cycle = msg["trial"], msg["cycle"]
+        cycles = self.touch.setdefault(trial, {})
+        if cycle in cycles:
             self.repeats += 1
-            self.get_logger().error(f"lockstep broken: cycle {msg.cycle} of trial {msg.trial} "
-                                    "arrived twice")
-        cycles[msg.cycle] = common.as_u8(msg.contact)
+            self.get_logger().error(f"lockstep broken: cycle {cycle} of trial {trial} arrived "
+                                    "twice")
+        cycles[cycle] = msg["contact"]
         self.last_touch = time.monotonic()
 
     def _spin_until(self, done, timeout: float) -> bool:

@@ -1,9 +1,10 @@
 """The world node: owns a batch of econet environments (econet_ros.world.World) and runs them
 in lockstep with a controller, or free-running at a fixed rate for demonstrations.
 
-Publishes   trial_start (econet_msgs/TrialStart) at every reset, retina (econet_msgs/Retina), proprioception (econet_msgs/Proprioception),
-            touch (econet_msgs/Touch) once per cycle; joint_states (sensor_msgs/JointState) and
-            markers (visualization_msgs/MarkerArray) for one display environment, throttled
+Publishes   trial_start (econet_msgs/TrialStart) at every reset; retina (econet_msgs/Retina),
+            proprioception (econet_msgs/Proprioception) and touch (econet_msgs/Touch) once per
+            cycle; joint_states (sensor_msgs/JointState) and markers
+            (visualization_msgs/MarkerArray) for one display environment, throttled
 Subscribes  muscle_command (econet_msgs/MuscleCommand)
 Serves      reset_trials (econet_msgs/ResetTrials)
 """
@@ -26,6 +27,9 @@ from ..bags import model_json
 from ..world import N_MOTOR, Observation, TrialSetup, World, reach_error, sample_setups
 from . import common
 from .common import NodeError
+from .wire import WireError
+
+COMMAND = common.CODECS["muscle_command"]
 
 MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
@@ -66,7 +70,9 @@ class WorldNode(Node):
         self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
         self._last_display = -math.inf
 
-        World(1, self.model).step(NEUTRAL[None])   # compile (or load) the kernels now
+        # Compile (or load) the kernels now, for commands as they arrive: read-only arrays.
+        World(1, self.model).step(self._motor(COMMAND.decode(COMMAND.encode(
+            n_envs=1, activation=NEUTRAL)), n_envs=1))
         self.world = World(n_envs, self.model)
         self.trial = 0
         self.limit = 0          # trial length; 0 = unlimited
@@ -74,16 +80,18 @@ class WorldNode(Node):
         self.latest = None      # free mode: newest command
 
         qos = common.LOCKSTEP_QOS
-        self.pub_retina = self.create_publisher(Retina, common.RETINA, qos)
-        self.pub_proprio = self.create_publisher(Proprioception, common.PROPRIOCEPTION, qos)
-        self.pub_touch = self.create_publisher(Touch, common.TOUCH, qos)
+        self.sensor_pubs = {
+            "touch": self.create_publisher(Touch, common.TOUCH, qos),
+            "proprioception": self.create_publisher(Proprioception, common.PROPRIOCEPTION, qos),
+            "retina": self.create_publisher(Retina, common.RETINA, qos)}
         self.pub_start = self.create_publisher(TrialStart, common.TRIAL_START,
                                                common.TRIAL_START_QOS)
         self.model_json = model_json(self.model)
         self.pub_joints = self.create_publisher(JointState, common.JOINT_STATES,
                                                 common.DISPLAY_QOS)
         self.pub_markers = self.create_publisher(MarkerArray, common.MARKERS, common.DISPLAY_QOS)
-        self.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, self._on_command, qos)
+        self.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, self._on_command, qos,
+                                 raw=True)
         self.create_service(ResetTrials, common.RESET_TRIALS, self._on_reset)
 
         if self.mode == "free":
@@ -158,12 +166,42 @@ class WorldNode(Node):
                           parts.get("elbow_deg", drawn.elbow))
 
     # -- commands ---------------------------------------------------------------------------
-    def _decode(self, msg: MuscleCommand) -> np.ndarray | None:
-        n = self.world.n_envs
-        motor = common.as_f64(msg.activation)
-        if msg.n_envs != n or len(motor) != n * N_MOTOR:
+    def _on_command(self, data: bytes) -> None:
+        """A serialized MuscleCommand (see wire: read in place, no message object)."""
+        try:
+            msg = COMMAND.decode(data)
+        except WireError as error:
+            self.get_logger().error(f"rejected muscle command: {error}")
+            return
+        if self.mode == "free":
+            motor = self._motor(msg)
+            if motor is not None:
+                self.latest = motor
+            return
+        where = f"trial {msg['trial']} cycle {msg['cycle']}"
+        if not self.started:
+            self.get_logger().warning(f"rejected muscle command for {where}: no trial yet "
+                                      "(call reset_trials)")
+            return
+        if msg["trial"] != self.trial or msg["cycle"] != self.world.cycle:
+            self.get_logger().warning(f"rejected muscle command for {where}: the world is at "
+                                      f"trial {self.trial} cycle {self.world.cycle}")
+            return
+        if self.limit and self.world.cycle >= self.limit:
+            self.get_logger().warning(f"rejected muscle command for {where}: the trial is over "
+                                      "(reset_trials starts the next)")
+            return
+        motor = self._motor(msg)
+        if motor is not None:
+            self._publish(self.world.step(motor))
+
+    def _motor(self, msg: dict, n_envs: int | None = None) -> np.ndarray | None:
+        """The command's (n, 5) outputs, or None (logged) if they are unusable."""
+        n = self.world.n_envs if n_envs is None else n_envs
+        motor = msg["activation"]
+        if msg["n_envs"] != n or len(motor) != n * N_MOTOR:
             self.get_logger().error(
-                f"rejected muscle command: {len(motor)} values for n_envs={msg.n_envs}, the "
+                f"rejected muscle command: {len(motor)} values for n_envs={msg['n_envs']}, the "
                 f"world has {n} environment(s) x {N_MOTOR} muscles = {n * N_MOTOR} values")
             return None
         if not np.all(np.isfinite(motor)):
@@ -171,30 +209,6 @@ class WorldNode(Node):
                                     "values")
             return None
         return motor.reshape(n, N_MOTOR)
-
-    def _on_command(self, msg: MuscleCommand) -> None:
-        if self.mode == "free":
-            motor = self._decode(msg)
-            if motor is not None:
-                self.latest = motor
-            return
-        if not self.started:
-            self.get_logger().warning(f"rejected muscle command for trial {msg.trial} cycle "
-                                      f"{msg.cycle}: no trial yet (call reset_trials)")
-            return
-        if msg.trial != self.trial or msg.cycle != self.world.cycle:
-            self.get_logger().warning(
-                f"rejected muscle command for trial {msg.trial} cycle {msg.cycle}: the world "
-                f"is at trial {self.trial} cycle {self.world.cycle}")
-            return
-        if self.limit and self.world.cycle >= self.limit:
-            self.get_logger().warning(f"rejected muscle command for trial {msg.trial} cycle "
-                                      f"{msg.cycle}: the trial is over (reset_trials starts "
-                                      "the next)")
-            return
-        motor = self._decode(msg)
-        if motor is not None:
-            self._publish(self.world.step(motor))
 
     def _on_tick(self) -> None:
         if self.free_cycles and self.world.cycle >= self.free_cycles:
@@ -207,14 +221,10 @@ class WorldNode(Node):
 
     # -- output -----------------------------------------------------------------------------
     def _publish(self, obs: Observation) -> None:
-        n = self.world.n_envs
+        """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
         final = bool(self.limit and obs.cycle >= self.limit)
-        head = dict(trial=self.trial, cycle=obs.cycle, final=final, n_envs=n)
-        self.pub_touch.publish(Touch(**head, contact=common.u8(obs.touch > 0.5)))
-        self.pub_proprio.publish(Proprioception(**head, stretch=common.f64(obs.proprio)))
-        self.pub_retina.publish(Retina(**head, units_per_env=obs.vision.shape[1],
-                                       activation=common.f64(obs.vision),
-                                       fixated=common.u8(obs.fixated)))
+        for part, data in common.encode_sensors(obs, self.trial, final).items():
+            self.sensor_pubs[part].publish(data)
         now = time.monotonic()
         if now - self._last_display >= self.display_period or final:
             self._last_display = now
