@@ -1,6 +1,7 @@
 """The ROS 2 node graph, with world, controller and supervisor as separate OS processes:
 topics and types, the reset and weight services and their error replies, lockstep, equivalence
 with the in-process engine, and evolution runs (also across a controller that vanishes)."""
+import array
 import os
 import signal
 import subprocess
@@ -14,7 +15,8 @@ os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)   # no cross-talk wit
 import rclpy  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
-from econet_msgs.msg import EvolutionProgress, MuscleCommand, Proprioception, Retina  # noqa: E402
+from econet_msgs.msg import (EvolutionProgress, MuscleCommand, Proprioception, Retina,  # noqa: E402
+                              Touch)
 from econet_msgs.srv import ResetTrials, SetWeights  # noqa: E402
 from econet_ros.config import Config  # noqa: E402
 from econet_ros.evolution import Evaluator, initial_genomes  # noqa: E402
@@ -341,3 +343,32 @@ def test_bad_parameter_is_one_line_error(tmp_path):
     assert proc.stderr.strip().splitlines() == [
         "controller_node: error: unknown controller 'five-layer': not a registered name "
         "(normal, random, reacher, three-layer) and not module:Class"]
+
+
+def test_controller_ignores_sensors_of_inconsistent_size(procs, ros):
+    """Sensor arrays that do not match their n_envs get a log line and no command; the
+    controller keeps serving and answers the next consistent cycle."""
+    _, log = procs.start("controller", "/badsense")
+    node = make_node(ros, "badsense_probe", "/badsense")
+    commands = []
+    node.create_subscription(MuscleCommand, "muscle_command", commands.append,
+                             common.LOCKSTEP_QOS)
+    pubs = {name: node.create_publisher(t, name, common.LOCKSTEP_QOS)
+            for name, t in (("retina", Retina), ("proprioception", Proprioception),
+                            ("touch", Touch))}
+    spin_until(ros, lambda: all(p.get_subscription_count() for p in pubs.values()),
+               what="the controller's subscriptions")
+
+    def send(cycle, retina_values):
+        head = dict(trial=1, cycle=cycle, n_envs=1)
+        pubs["touch"].publish(Touch(**head, contact=array.array("B", [0])))
+        pubs["proprioception"].publish(Proprioception(**head, stretch=common.f64([0.5] * 4)))
+        pubs["retina"].publish(Retina(**head, units_per_env=8,
+                                      activation=common.f64([0.0] * retina_values),
+                                      fixated=array.array("B", [0])))
+
+    send(0, 7)                                   # one retina value short
+    send(1, 8)
+    spin_until(ros, lambda: commands, what="a command for the consistent cycle")
+    assert [(c.trial, c.cycle) for c in commands] == [(1, 1)]
+    assert "ignored trial 1 cycle 0: sensor arrays do not match n_envs=1" in log.read_text()

@@ -161,7 +161,16 @@ class ControllerNode(Node):
                 f"{self.controller.n_envs}: call set_weights with n_envs={n}",
                 throttle_duration_sec=5.0)
             return
-        motor = self.controller.act(common.decode_observation(parts))
+        try:
+            obs = common.decode_observation(parts)
+        except ValueError:
+            self.get_logger().error(
+                f"ignored trial {retina['trial']} cycle {retina['cycle']}: sensor arrays do not "
+                f"match n_envs={n} ({len(retina['activation'])} retina, "
+                f"{len(parts['proprioception']['stretch'])} proprioception, "
+                f"{len(parts['touch']['contact'])} touch values)", throttle_duration_sec=5.0)
+            return
+        motor = self.controller.act(obs)
         self.pub.publish(COMMAND.encode(trial=retina["trial"], cycle=retina["cycle"], n_envs=n,
                                         activation=motor))
 
