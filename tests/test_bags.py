@@ -3,6 +3,7 @@ read back with the rosbags reader and with rclpy's deserializer; an interrupted 
 `econet bag` commands, replay that catches a tampered bag, and one-line errors for bad paths."""
 import os
 import signal
+import time
 
 import numpy as np
 import pytest
@@ -99,7 +100,13 @@ def test_interrupted_recording_is_still_a_readable_bag(ros, tmp_path):
     node.create_subscription(Touch, "touch", lambda m: heard.append(m.cycle),
                              common.LOCKSTEP_QOS)
     spin_until(executor, lambda: node.count_subscribers("retina") >= 2 and
+               node.count_subscribers("muscle_command") >= 2 and
                node.count_subscribers("markers") >= 1, what="the recorder's subscriptions")
+    # Seeing the recorder's subscriptions does not mean the world's and controller's publishers
+    # have matched them yet; 150 cycles of four environments take only a few tens of ms.
+    settle = time.monotonic() + 1.0
+    while time.monotonic() < settle:
+        executor.spin_once(timeout_sec=0.05)
     call(executor, node.create_client(SetWeights, "set_weights"),
          SetWeights.Request(n_envs=4, weights_per_network=0))
     reply = call(executor, node.create_client(ResetTrials, "reset_trials"),
