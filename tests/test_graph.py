@@ -351,13 +351,13 @@ def test_controller_ignores_sensors_of_inconsistent_size(procs, ros):
     _, log = procs.start("controller", "/badsense")
     node = make_node(ros, "badsense_probe", "/badsense")
     commands = []
-    node.create_subscription(MuscleCommand, "muscle_command", commands.append,
-                             common.LOCKSTEP_QOS)
+    answers = node.create_subscription(MuscleCommand, "muscle_command", commands.append,
+                                       common.LOCKSTEP_QOS)
     pubs = {name: node.create_publisher(t, name, common.LOCKSTEP_QOS)
             for name, t in (("retina", Retina), ("proprioception", Proprioception),
                             ("touch", Touch))}
-    spin_until(ros, lambda: all(p.get_subscription_count() for p in pubs.values()),
-               what="the controller's subscriptions")
+    spin_until(ros, lambda: all(p.get_subscription_count() for p in pubs.values())
+               and answers.get_publisher_count(), what="the controller, matched both ways")
 
     def send(cycle, retina_values):
         head = dict(trial=1, cycle=cycle, n_envs=1)
