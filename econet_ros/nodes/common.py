@@ -16,7 +16,7 @@ from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
 
 from ..config import Config, ConfigError, load_config
 from ..world import N_PROPRIO, Observation
-from .wire import Codec
+from .wire import Codec, WireError
 
 # Relative names (turtlesim style): run several graphs side by side under namespaces.
 RETINA = "retina"
@@ -75,6 +75,17 @@ def as_u8(field) -> np.ndarray:
 CODECS = {"touch": Codec(Touch), "proprioception": Codec(Proprioception),
           "retina": Codec(Retina), "muscle_command": Codec(MuscleCommand)}
 SENSORS = ("touch", "proprioception", "retina")      # in the order the world publishes them
+
+
+def decode(node: Node, part: str, data: bytes) -> dict | None:
+    """The fields of a serialized lockstep message (``part`` names its codec), or None, with a
+    throttled log line, if the bytes are not such a message."""
+    try:
+        return CODECS[part].decode(data)
+    except WireError as error:
+        node.get_logger().error(f"ignored a {part} message: {error}",
+                                throttle_duration_sec=5.0)
+        return None
 
 
 def encode_sensors(obs: Observation, trial: int, final: bool) -> dict[str, bytes]:

@@ -20,7 +20,6 @@ from ..plugins import PluginError, resolve
 from ..world import World
 from . import common
 from .common import NodeError
-from .wire import WireError
 
 CODECS = common.CODECS
 COMMAND = CODECS["muscle_command"]
@@ -129,11 +128,8 @@ class ControllerNode(Node):
     def _on_part(self, part: str, data: bytes) -> None:
         """A serialized sensor message (see wire); the command goes out once a cycle's three
         messages are in."""
-        try:
-            msg = CODECS[part].decode(data)
-        except WireError as error:
-            self.get_logger().error(f"ignored a {part} message: {error}",
-                                    throttle_duration_sec=5.0)
+        msg = common.decode(self, part, data)
+        if msg is None:
             return
         key = (msg["trial"], msg["cycle"])
         parts = self.pending.get(key)

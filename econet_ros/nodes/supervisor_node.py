@@ -43,9 +43,6 @@ from ..experiment import run_folder, summarize
 from ..results import RunStore
 from . import common
 from .common import NodeError
-from .wire import WireError
-
-TOUCH = common.CODECS["touch"]
 
 
 class GenerationFailed(Exception):
@@ -137,10 +134,8 @@ class SupervisorNode(Node):
     # -- plumbing -----------------------------------------------------------------------------
     def _on_touch(self, data: bytes) -> None:
         """A serialized Touch message (see wire)."""
-        try:
-            msg = TOUCH.decode(data)
-        except WireError as error:
-            self.get_logger().error(f"ignored a touch message: {error}")
+        msg = common.decode(self, "touch", data)
+        if msg is None:
             return
         trial, cycle = msg["trial"], msg["cycle"]
         cycles = self.touch.setdefault(trial, {})

@@ -27,7 +27,6 @@ from ..bags import model_json
 from ..world import N_MOTOR, Observation, TrialSetup, World, reach_error, sample_setups
 from . import common
 from .common import NodeError
-from .wire import WireError
 
 COMMAND = common.CODECS["muscle_command"]
 
@@ -168,10 +167,8 @@ class WorldNode(Node):
     # -- commands ---------------------------------------------------------------------------
     def _on_command(self, data: bytes) -> None:
         """A serialized MuscleCommand (see wire: read in place, no message object)."""
-        try:
-            msg = COMMAND.decode(data)
-        except WireError as error:
-            self.get_logger().error(f"rejected muscle command: {error}")
+        msg = common.decode(self, "muscle_command", data)
+        if msg is None:
             return
         if self.mode == "free":
             motor = self._motor(msg)
