@@ -9,7 +9,7 @@ from pathlib import Path as _Path
 # network run inside engine.py's whole-trial kernel), so after an edit or an update a stale
 # kernel could run. Keying the cache folder by the content of every module with kernels makes
 # any change start a fresh cache. An explicit NUMBA_CACHE_DIR is respected.
-_KERNEL_MODULES = ("world.py", "controllers.py", "engine.py")
+_KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "engine.py")
 
 
 def _kernel_cache_dir(package: _Path = _Path(__file__).parent) -> str:

@@ -14,17 +14,14 @@ are ordered touch, visual hidden, proprioceptive hidden).
 from __future__ import annotations
 
 import math
-import struct
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from decimal import Decimal, localcontext
 
 import numba
 import numpy as np
-from numba import types
-from numba.extending import intrinsic
 
 from .config import Config
+from .elementary import EXP_NEAR_LIMIT, exp_near
 from .world import N_MOTOR, N_PROPRIO, Observation
 
 
@@ -194,80 +191,6 @@ def make_controller(name: str, n_envs: int, config: Config) -> Controller:
 
 
 # --- the logistic, vectorised -------------------------------------------------------------------
-# math.exp is a libm call per value, so the loop over a block of environments does not vectorise
-# and exp dominates the network's cost. ``exp_near`` is the same algorithm, constants and
-# rounding steps as glibc's exp (from Arm's optimized-routines, in its FMA build, which glibc
-# picks on CPUs with FMA): it returns math.exp's exact bits there, but as plain arithmetic that
-# LLVM vectorises. It covers |x| < EXP_NEAR_LIMIT, where glibc takes this same path.
-
-@intrinsic
-def _fma(typingctx, a, b, c):
-    """a * b + c with one rounding (llvm.fma; a vfmadd instruction on CPUs with FMA)."""
-    def codegen(context, builder, signature, args):
-        return builder.fma(*args)
-    return types.float64(types.float64, types.float64, types.float64), codegen
-
-
-@intrinsic
-def _bits(typingctx, x):
-    """The IEEE-754 bits of a float64, as an int64."""
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], context.get_value_type(types.int64))
-    return types.int64(types.float64), codegen
-
-
-@intrinsic
-def _from_bits(typingctx, i):
-    """The float64 with the given IEEE-754 bits."""
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], context.get_value_type(types.float64))
-    return types.float64(types.int64), codegen
-
-
-def _exp_table(n: int) -> np.ndarray:
-    """glibc's table for 2^(k/n), k < n: the pair (bits of the tail t, bits of h minus
-    k << (52 - log2 n)) with h = 2^(k/n) rounded and h * (1 + t) closer still."""
-    def bits(x: float) -> int:
-        return struct.unpack("<q", struct.pack("<d", x))[0]
-    table = np.zeros(2 * n, dtype=np.int64)
-    with localcontext() as context:
-        context.prec = 60
-        for k in range(n):
-            exact = (Decimal(2).ln() * k / n).exp()
-            head = float(exact)
-            table[2 * k] = bits(float((exact - Decimal(head)) / Decimal(head)))
-            table[2 * k + 1] = bits(head) - (k << 45)
-    return table
-
-
-_EXP_N = 128                              # table entries: exp(x) = 2^(k/N) * exp(r)
-_EXP_TABLE = _exp_table(_EXP_N)
-_INV_LN2_N = float.fromhex("0x1.71547652b82fep7")          # N / ln 2
-_SHIFT = float.fromhex("0x1.8p52")                         # rounds to an integer when added
-_NEG_LN2_HI_N = float.fromhex("-0x1.62e42fefa0000p-8")     # -ln 2 / N, in two parts
-_NEG_LN2_LO_N = float.fromhex("-0x1.cf79abc9e3b3ap-47")
-_C2 = float.fromhex("0x1.ffffffffffdbdp-2")                # exp(r) ~ 1 + r + C2 r^2 + ...
-_C3 = float.fromhex("0x1.555555555543cp-3")
-_C4 = float.fromhex("0x1.55555cf172b91p-5")
-_C5 = float.fromhex("0x1.1111167a4d017p-7")
-EXP_NEAR_LIMIT = 512.0                    # glibc handles larger |x| (and 0) separately
-
-
-@numba.njit(cache=True, inline="always")
-def exp_near(x):
-    """exp(x) for |x| < EXP_NEAR_LIMIT: x = k ln2/N + r, exp(x) = 2^(k/N) * exp(r), with
-    2^(k/N) from the table and exp(r) from a polynomial (error under 0.51 ulp)."""
-    kd = _fma(x, _INV_LN2_N, _SHIFT)
-    ki = _bits(kd)                        # k in the low bits
-    kd -= _SHIFT
-    r = _fma(kd, _NEG_LN2_LO_N, _fma(kd, _NEG_LN2_HI_N, x))
-    index = 2 * (ki & (_EXP_N - 1))
-    tail = _from_bits(_EXP_TABLE[index])      # 2^(k/N) ~ scale * (1 + tail)
-    scale = _from_bits(_EXP_TABLE[index + 1] + (ki << 45))
-    r2 = r * r
-    tmp = _fma(r2 * r2, _fma(r, _C5, _C4), _fma(_fma(r, _C3, _C2), r2, r + tail))
-    return _fma(scale, tmp, scale)
-
 
 @numba.njit(cache=True, inline="always")
 def logistic(total, out):

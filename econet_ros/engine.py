@@ -11,7 +11,7 @@ import numba
 import numpy as np
 
 from .controllers import Controller, forward_block
-from .world import N_MOTOR, TrialSetup, World, arm_geometry, hand_gap, move, sense
+from .world import N_MOTOR, TrialSetup, World, arm_geometry, hand_object_gap, move, sense
 
 
 @dataclass
@@ -121,10 +121,10 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
 @numba.njit(cache=True, inline="always")
 def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder, t_elbow,
                 t_hand, t_gap, t_touch, t_fixated):
-    ex, ey, bx, by, tx, ty = arm_geometry(b, s, e, geo)
+    tx, ty = arm_geometry(b, s, e, geo)[4:]
     t_body[row, i], t_shoulder[row, i], t_elbow[row, i] = b, s, e
     t_hand[row, i, 0], t_hand[row, i, 1] = tx, ty
-    t_gap[row, i] = max(hand_gap(bx, by, tx, ty, ox, oy, geo.radius), 0.0)
+    t_gap[row, i] = max(hand_object_gap(b, s, e, ox, oy, geo), 0.0)
     t_touch[row, i], t_fixated[row, i] = touching, seen
 
 

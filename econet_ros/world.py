@@ -24,7 +24,9 @@ Observation space (``Observation``)
     vision   (n, 8) in [0, 1]: unit j averages one-degree windows 8j..8j+7, unit 0 at the right
              edge of the 64-degree field; a window holds 1 - d/50 for the nearest visible point
              of the hand (last 5 units of the forearm) or the object in it, else 0. Taking the
-             nearest point makes nearer things occlude farther ones.
+             nearest point makes nearer things occlude farther ones. A fully folded elbow puts
+             the hand's tip on the eye; vision then takes the limit of a slightly bent elbow (the
+             hand covers the quarter turn left of the upper arm at distance 0).
     proprio  (n, 4) in [0, 1]: shoulder flexor q_s/180, shoulder extensor 1 - q_s/180, then the
              same for the elbow (a flexor is stretched when its joint is extended).
     touch    (n,) 0 or 1: the hand segment touches the object.
@@ -41,6 +43,7 @@ import numba
 import numpy as np
 
 from .config import ModelConfig
+from .elementary import ATAN2_ERROR, atan2_approx, cos_sin_deg
 
 N_MOTOR = 5
 N_PROPRIO = 4
@@ -216,15 +219,39 @@ class World:
 # the whole-trial kernel in engine.py only loop over environments and cycles around them.
 
 @numba.njit(cache=True, inline="always")
+def arm_in_eye_frame(shoulder, elbow, geo):
+    """Elbow, hand-base and hand-tip coordinates of one arm in the eye's frame (x along the body
+    axis), and the tip's direction in degrees.
+
+    The upper arm points at 90 - q_s degrees and the forearm turns 180 - q_e further, so the tip
+    lies 2 L sin(q_e / 2) from the shoulder in direction 180 - q_s - q_e / 2. Computed this way a
+    fully folded elbow puts the tip exactly on the eye, with the direction it approaches from."""
+    half_cos, half_sin = cos_sin_deg(0.5 * elbow)
+    tip_angle = 180.0 - shoulder - 0.5 * elbow
+    tip_cos, tip_sin = cos_sin_deg(tip_angle)
+    reach = 2.0 * geo.segment * half_sin
+    tx, ty = reach * tip_cos, reach * tip_sin
+    # The forearm points 90 - q_e / 2 degrees beyond the tip's direction.
+    fx, fy = tip_cos * half_sin - tip_sin * half_cos, tip_sin * half_sin + tip_cos * half_cos
+    ex, ey = tx - geo.segment * fx, ty - geo.segment * fy
+    bx, by = tx - geo.hand * fx, ty - geo.hand * fy
+    return ex, ey, bx, by, tx, ty, tip_angle
+
+
+@numba.njit(cache=True, inline="always")
 def arm_geometry(body, shoulder, elbow, geo):
-    """Elbow, hand-base and hand-tip coordinates of one arm."""
-    phi1 = math.radians(body + 90.0 - shoulder)
-    phi2 = phi1 + math.radians(180.0 - elbow)
-    ex, ey = geo.segment * math.cos(phi1), geo.segment * math.sin(phi1)
-    c2, s2 = math.cos(phi2), math.sin(phi2)
-    bx, by = ex + (geo.segment - geo.hand) * c2, ey + (geo.segment - geo.hand) * s2
-    tx, ty = ex + geo.segment * c2, ey + geo.segment * s2
-    return ex, ey, bx, by, tx, ty
+    """Elbow, hand-base and hand-tip coordinates of one arm in the workspace."""
+    ex, ey, bx, by, tx, ty, _ = arm_in_eye_frame(shoulder, elbow, geo)
+    c, s = cos_sin_deg(body)
+    return (ex * c - ey * s, ex * s + ey * c, bx * c - by * s, bx * s + by * c,
+            tx * c - ty * s, tx * s + ty * c)
+
+
+@numba.njit(cache=True, inline="always")
+def to_eye_frame(x, y, body):
+    """A workspace point in the eye's frame of a body axis at ``body`` degrees."""
+    c, s = cos_sin_deg(body)
+    return x * c + y * s, -x * s + y * c
 
 
 @numba.njit(cache=True, inline="always")
@@ -235,6 +262,14 @@ def hand_gap(bx, by, tx, ty, ox, oy, radius):
     t = min(max(((ox - bx) * hx + (oy - by) * hy) / (hx * hx + hy * hy), 0.0), 1.0)
     gx, gy = bx + t * hx - ox, by + t * hy - oy
     return math.sqrt(gx * gx + gy * gy) - radius
+
+
+@numba.njit(cache=True, inline="always")
+def hand_object_gap(body, shoulder, elbow, ox, oy, geo):
+    """hand_gap of one arm and its object, computed in the eye's frame as ``sense`` does."""
+    _, _, bx, by, tx, ty, _ = arm_in_eye_frame(shoulder, elbow, geo)
+    cx, cy = to_eye_frame(ox, oy, body)
+    return hand_gap(bx, by, tx, ty, cx, cy, geo.radius)
 
 
 @numba.njit(cache=True, inline="always")
@@ -268,9 +303,8 @@ def _arm_points_batch(body, shoulder, elbow, geo):
 def _hand_gap_batch(body, shoulder, elbow, object_xy, geo):
     out = np.zeros(body.shape[0])
     for i in range(body.shape[0]):
-        ex, ey, bx, by, tx, ty = arm_geometry(body[i], shoulder[i], elbow[i], geo)
-        out[i] = max(hand_gap(bx, by, tx, ty, object_xy[i, 0], object_xy[i, 1], geo.radius),
-                     0.0)
+        out[i] = max(hand_object_gap(body[i], shoulder[i], elbow[i], object_xy[i, 0],
+                                     object_xy[i, 1], geo), 0.0)
     return out
 
 
@@ -332,11 +366,17 @@ def _segment_in_wedge(right, left, t_foot, px, py, dx, dy):
     return math.sqrt(x * x + y * y)
 
 
+# Angles for window spans come from atan2_approx; widening a span by a few of its errors means
+# rounding never drops a window (each window's own exact test decides what it sees).
+_SPAN_GUARD = 4 * ATAN2_ERROR
+
+
 @numba.njit(cache=True, inline="always")
 def _window_span(a_lo, a_hi, geo, n_windows):
-    """First and last window touched by the angles [a_lo, a_hi] (radians, eye frame)."""
-    first = max(int(math.floor((a_lo + geo.half_fov) / geo.window)), 0)
-    last = min(int(math.floor((a_hi + geo.half_fov) / geo.window)), n_windows - 1)
+    """First and last window touched by the angles [a_lo, a_hi] (radians, eye frame), give or
+    take _SPAN_GUARD."""
+    first = max(int(math.floor((a_lo - _SPAN_GUARD + geo.half_fov) / geo.window)), 0)
+    last = min(int(math.floor((a_hi + _SPAN_GUARD + geo.half_fov) / geo.window)), n_windows - 1)
     return first, last
 
 
@@ -346,20 +386,15 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
     and return whether the object is fixated (the nearest thing in at least one window)."""
     n_units, per_unit = geo.visual_units, geo.windows_per_unit
     n_windows = n_units * per_unit
-    ex, ey, bx, by, tx, ty = arm_geometry(body, shoulder, elbow, geo)
+    # Everything in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
+    _, _, px, py, qx, qy, tip_angle = arm_in_eye_frame(shoulder, elbow, geo)
+    cx, cy = to_eye_frame(ox, oy, body)
 
     senses[n_units] = shoulder / geo.joint_max
     senses[n_units + 1] = 1.0 - senses[n_units]
     senses[n_units + 2] = elbow / geo.joint_max
     senses[n_units + 3] = 1.0 - senses[n_units + 2]
-    senses[n_units + 4] = 1.0 if hand_gap(bx, by, tx, ty, ox, oy, geo.radius) <= 0.0 else 0.0
-
-    # Vision, in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
-    eye = math.radians(body)
-    ce, se = math.cos(eye), math.sin(eye)
-    px, py = bx * ce + by * se, -bx * se + by * ce
-    qx, qy = tx * ce + ty * se, -tx * se + ty * ce
-    cx, cy = ox * ce + oy * se, -ox * se + oy * ce
+    senses[n_units + 4] = 1.0 if hand_gap(px, py, qx, qy, cx, cy, geo.radius) <= 0.0 else 0.0
     dx, dy = qx - px, qy - py
 
     # The windows each shape can touch: none if it lies wholly beyond one edge of the field
@@ -372,16 +407,18 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
     elif d_obj <= geo.radius:
         o_first, o_last = 0, n_windows - 1
     else:
-        a_obj, half_obj = math.atan2(cy, cx), math.asin(geo.radius / d_obj)
+        a_obj = atan2_approx(cy, cx)
+        half_obj = atan2_approx(geo.radius, math.sqrt(d_obj * d_obj - geo.radius * geo.radius))
         o_first, o_last = _window_span(a_obj - half_obj, a_obj + half_obj, geo, n_windows)
     hand_out = (rx * py - ry * px < 0.0 and rx * qy - ry * qx < 0.0) or \
         (lx * py - ly * px > 0.0 and lx * qy - ly * qx > 0.0)
     if hand_out:
         h_first, h_last = n_windows, -1
-    elif px * qy - py * qx == 0.0:
-        h_first, h_last = 0, n_windows - 1             # on a line through the eye: check all
     else:
-        ap, aq = math.atan2(py, px), math.atan2(qy, qx)
+        # The tip's direction comes from the joint angles (in [-90, 180] degrees), defined even
+        # when a folded elbow puts the tip on the eye: the hand then spans the quarter turn from
+        # the upper arm to the tip's direction, at distance 0.
+        ap, aq = atan2_approx(py, px), math.radians(tip_angle)
         a_lo, a_hi = min(ap, aq), max(ap, aq)
         if a_hi - a_lo > math.pi:                      # the segment passes behind the eye
             if a_lo < -geo.half_fov and a_hi > geo.half_fov:
@@ -400,6 +437,7 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
         spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
     else:
         spans = ((o_first, o_last), (h_first, h_last))
+    tip_on_eye = qx == 0.0 and qy == 0.0
     dd = dx * dx + dy * dy
     t_foot = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
     right = (0.0, 0.0, 0.0)
@@ -411,7 +449,9 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
             if o_first <= w <= o_last:
                 near_obj = _disk_in_wedge(cx, cy, d_obj, geo.radius, u0x, u0y, u1x, u1y)
             near_hand = math.inf
-            if h_first <= w <= h_last:
+            if h_first <= w <= h_last and tip_on_eye:
+                near_hand = 0.0        # the tip lies on every window's apex
+            elif h_first <= w <= h_last:
                 if right_edge != w:
                     right = _edge_crossing(u0x, u0y, px, py, dx, dy)
                 left = _edge_crossing(u1x, u1y, px, py, dx, dy)

@@ -1,6 +1,6 @@
 """The engine's two drivers (whole trials compiled, or one act() call per cycle) and the
-controllers' batching must not change a single bit of the results; the vectorised exp behind
-the networks' logistic units must be math.exp."""
+controllers' batching must not change a single bit of the results; the vectorised logistic
+must be the scalar formula."""
 import math
 
 import numba
@@ -9,7 +9,8 @@ import pytest
 
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.controllers import EXP_NEAR_LIMIT, exp_near, logistic, make_controller
+from econet_ros.controllers import logistic, make_controller
+from econet_ros.elementary import EXP_NEAR_LIMIT
 from econet_ros.engine import TrialMeasures, run_trials
 from econet_ros.world import World, sample_setups
 
@@ -92,12 +93,6 @@ def test_trial_measures_from_a_contact_history():
 
 
 @numba.njit
-def _exp_near_all(x, out):
-    for i in range(x.shape[0]):
-        out[i] = exp_near(x[i])
-
-
-@numba.njit
 def _logistic_scalar(total):
     """The formula as the networks computed it before (math.exp, one value at a time)."""
     return np.array([1.0 / (1.0 + math.exp(-t)) for t in total])
@@ -108,23 +103,6 @@ def _logistic(total):
     out = np.empty_like(total)
     logistic(total, out)
     return out
-
-
-def test_vectorised_exp_is_math_exp():
-    # exp_near repeats glibc's exp step by step: on CPUs with FMA (where glibc runs the same
-    # FMA build) it gives math.exp's exact bits; elsewhere glibc's own result may differ by 1 ulp.
-    rng = np.random.default_rng(0)
-    x = np.concatenate([
-        rng.uniform(-EXP_NEAR_LIMIT, EXP_NEAR_LIMIT, 1_000_000),
-        rng.uniform(-20, 20, 1_000_000),                                  # the network's range
-        rng.choice([-1, 1], 200_000) * np.exp(rng.uniform(-745, np.log(511.9), 200_000)),
-        [0.0, -0.0, 5e-324, -5e-324, 2.0 ** -54, -2.0 ** -54, 1e-300, 511.999, -511.999]])
-    got = np.empty_like(x)
-    _exp_near_all(x, got)
-    want = np.array([math.exp(v) for v in x])
-    ulps = np.abs(got.view(np.int64) - want.view(np.int64))
-    assert ulps.max() <= 1
-    assert (ulps == 0).mean() > 0.999
 
 
 def test_logistic_matches_the_scalar_formula_everywhere():

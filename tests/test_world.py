@@ -54,6 +54,22 @@ def test_nearer_hand_hides_the_object_in_its_window_only():
     assert world.observe().fixated[0]    # the object still shows in neighbouring windows
 
 
+def test_a_folded_elbow_puts_the_tip_on_the_eye_and_the_hand_across_a_quarter_turn():
+    # Folded (q_e = 0), the forearm lies back along the upper arm (at -29.5 deg) and its tip is
+    # on the eye. Vision takes the limit of a slightly bent elbow, whose tip nears the eye from
+    # 90 deg left of the upper arm: the hand fills -29.5 to +60.5 deg at distance 0, so windows
+    # 2-63 of the field (window 2 starts at -30 deg).
+    world = world_at(body=0, shoulder=119.5, elbow=0)
+    assert tuple(world.arm_points()[0, 3]) == (0.0, 0.0)
+    expected = np.ones(8)
+    expected[0] = 6 / 8
+    np.testing.assert_allclose(world.observe().vision[0], expected, atol=1e-12)
+    bent = world_at(body=0, shoulder=119.5, elbow=1e-4).observe().vision[0]
+    np.testing.assert_allclose(bent, expected, atol=1e-3)
+    # upper arm pointing left (q_s = 0): the quarter turn from 90 to 180 deg is out of view
+    assert world_at(body=0, shoulder=0, elbow=0).observe().vision.sum() == 0
+
+
 def brute_force_vision(world, samples=4000):
     """Sample hand and object outlines densely and keep the nearest point per window."""
     m = world.model
