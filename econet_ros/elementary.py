@@ -2,7 +2,7 @@
 
 A libm call per value keeps a loop from vectorising and costs more than the arithmetic it
 hides; written out, these functions vectorise over a block of environments (exp) or simply cost
-less (cos/sin), and they give the same bits on every platform.
+less (cos/sin), and their results do not depend on the platform's libm.
 """
 from __future__ import annotations
 
