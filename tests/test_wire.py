@@ -55,3 +55,16 @@ def test_truncated_or_foreign_bytes_are_wire_errors():
         codec.decode(data[:40])
     with pytest.raises(WireError, match="plain-CDR"):
         codec.decode(b"\x00\x00\x00\x00" + data[4:])
+
+
+def test_arrays_are_written_row_major_whatever_their_memory_layout():
+    """The world hands over views (the retina is a column slice of its sense array) and bools
+    for uint8 fields; both must reach the wire as the row-major values rclpy would send."""
+    senses = np.random.default_rng(0).random((5, 13))
+    vision = senses[:, :8]                          # not contiguous
+    fixated = np.array([True, False, True, True, False])
+    data = Codec(Retina).encode(n_envs=5, units_per_env=8, activation=vision, fixated=fixated)
+    msg = deserialize_message(data, Retina)
+    assert np.array_equal(np.asarray(msg.activation), vision.reshape(-1))
+    assert np.array_equal(np.asarray(msg.fixated), fixated.astype(np.uint8))
+    assert data == serialize_message(msg)

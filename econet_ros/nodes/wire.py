@@ -27,6 +27,7 @@ _NUMBERS = {
     "int64": np.dtype("<i8"), "float": np.dtype("<f4"), "double": np.dtype("<f8"),
 }
 _LENGTH = struct.Struct("<I")
+_ZEROS = bytes(8)                  # alignment padding: at most 7 bytes
 
 
 class WireError(ValueError):
@@ -55,21 +56,25 @@ class Codec:
         parts = [HEADER]
         offset = 0                     # alignment counts from the end of the header
 
-        def put(data: bytes, align: int) -> None:
+        def put(data, size: int, align: int) -> None:
             nonlocal offset
             pad = -offset % align
-            parts.append(b"\x00" * pad + data)
-            offset += pad + len(data)
+            if pad:
+                parts.append(_ZEROS[:pad])
+            parts.append(data)
+            offset += pad + size
 
         for name, dtype, sequence in self.fields:
             value = values.get(name)
             if sequence:
                 items = np.ascontiguousarray(() if value is None else value, dtype=dtype)
-                put(_LENGTH.pack(items.size), 4)
-                put(items.tobytes(), dtype.itemsize)    # aligned even when empty
+                put(_LENGTH.pack(items.size), 4, 4)
+                # the array's own buffer: join() then copies each array exactly once
+                put(items.reshape(-1).view(np.uint8).data, items.nbytes,
+                    dtype.itemsize)              # aligned even when empty
             else:
                 put(np.array(0 if value is None else value, dtype=dtype).tobytes(),
-                    dtype.itemsize)
+                    dtype.itemsize, dtype.itemsize)
         return b"".join(parts)
 
     def decode(self, data: bytes) -> dict[str, Any]:
