@@ -4,10 +4,15 @@
   1. in-process: the core's Evaluator.test_generation for one generation (no ROS);
   2. bare round trip: ping-pong of a tiny message between two processes (rclpy, same executor
      as the nodes), the cost of one lockstep cycle that does no work;
-  3. graph: the same generation through world_node and controller_node, each in its own
+  3. messaging alone: the graph's four lockstep messages of a paper-size cycle (touch,
+     proprioception, retina, muscle command: the same bytes) passed between a stand-in world and
+     a stand-in controller that compute nothing, with this process listening to touch as the
+     supervisor does; what the message design costs before any work is done;
+  4. graph: the same generation through world_node and controller_node, each in its own
      process, driven by this process as the supervisor (SupervisorNode.test_generation);
 and prints how far the graph is above its floor, floor = in-process + cycles x round trip
-(target: graph <= in-process + 2 x cycles x round trip), and the projected time of a whole run.
+(target: graph <= in-process + 2 x cycles x round trip), how much of the target's allowance
+messaging alone uses, and the projected time of a whole run.
 
 Run after the set-up:  . scripts/env.sh && python scripts/bench_graph.py [--generations 5]
 Defaults are paper size: 100 econets x 20 trials (2000 environments) x 100 cycles.
@@ -43,6 +48,87 @@ def echo_main() -> int:
     except KeyboardInterrupt:
         pass
     return 0
+
+
+def paper_cycle_messages(n_envs: int) -> tuple[dict[str, bytes], bytes]:
+    """One cycle's serialized sensor messages and muscle command, at their real sizes."""
+    import numpy as np
+    from econet_ros.config import Config
+    from econet_ros.nodes import common
+    from econet_ros.world import N_MOTOR, World, sample_setups
+
+    model = Config().model
+    world = World(n_envs, model)
+    world.reset(sample_setups(np.random.default_rng(0), n_envs, model))
+    sensors = common.encode_sensors(world.observe(), 1, False)
+    command = common.CODECS["muscle_command"].encode(
+        trial=1, cycle=0, n_envs=n_envs, activation=np.full((n_envs, N_MOTOR), 0.5))
+    return sensors, command
+
+
+def stand_in_main(role: str, n_envs: int) -> int:
+    """A world or controller that only passes messages: the world answers every command with
+    the same three sensor messages, the controller answers every complete set of three with the
+    same command."""
+    import rclpy
+    from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+    from econet_ros.nodes import common
+
+    rclpy.init()
+    node = rclpy.create_node(f"bench_{role}")
+    qos = common.LOCKSTEP_QOS
+    sensors, command = paper_cycle_messages(n_envs)
+    types = {"touch": Touch, "proprioception": Proprioception, "retina": Retina}
+    topics = {"touch": common.TOUCH, "proprioception": common.PROPRIOCEPTION,
+              "retina": common.RETINA}
+    if role == "world":
+        pubs = {part: node.create_publisher(types[part], topics[part], qos)
+                for part in common.SENSORS}
+
+        def on_command(_data: bytes) -> None:
+            for part in common.SENSORS:
+                pubs[part].publish(sensors[part])
+        node.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, on_command, qos,
+                                 raw=True)
+    else:
+        pub = node.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
+        heard = dict.fromkeys(common.SENSORS, 0)
+        answered = [0]
+
+        def on_part(part: str) -> None:
+            heard[part] += 1
+            if min(heard.values()) > answered[0]:
+                answered[0] += 1
+                pub.publish(command)
+        for part in common.SENSORS:
+            node.create_subscription(types[part], topics[part],
+                                     lambda _data, part=part: on_part(part), qos, raw=True)
+    try:
+        common.spin(node, common.make_executor(common._executor_kind()))
+    except KeyboardInterrupt:
+        pass
+    return 0
+
+
+def messaging_alone(executor, node, n: int) -> float:
+    """Mean seconds per cycle of the stand-in world and controller (n cycles after 50 warm-up
+    ones), heard on touch as the supervisor hears them."""
+    from econet_msgs.msg import MuscleCommand, Touch
+    from econet_ros.nodes import common
+
+    touches = []
+    listen = node.create_subscription(Touch, common.TOUCH, lambda _data: touches.append(
+        time.perf_counter()), common.LOCKSTEP_QOS, raw=True)
+    kick = node.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, common.LOCKSTEP_QOS)
+    spin_until(executor, lambda: kick.get_subscription_count() > 0
+               and node.count_publishers(common.MUSCLE_COMMAND) > 1
+               and node.count_publishers(common.TOUCH) > 0
+               and node.count_subscribers(common.RETINA) > 0)
+    kick.publish(paper_cycle_messages(1)[1])          # the first command; then they run alone
+    spin_until(executor, lambda: len(touches) > n + 50)
+    node.destroy_subscription(listen)
+    node.destroy_publisher(kick)
+    return (touches[n + 50] - touches[50]) / n
 
 
 def start(args: list[str]) -> subprocess.Popen:
@@ -91,6 +177,8 @@ def round_trip(executor, node, n: int) -> list[float]:
 def main() -> int:
     if "--echo" in sys.argv:
         return echo_main()
+    if "--stand-in" in sys.argv:
+        return stand_in_main(sys.argv[2], int(sys.argv[3]))
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--generations", type=int, default=5, help="generations to time")
     parser.add_argument("--population", type=int, default=100)
@@ -144,7 +232,14 @@ def main() -> int:
         procs.clear()
         t_rtt = statistics.mean(rtt)
 
-        # 3. the graph
+        # 3. messaging alone
+        procs.append(start([__file__, "--stand-in", "world", str(n_envs)]))
+        procs.append(start([__file__, "--stand-in", "controller", str(n_envs)]))
+        t_msg = messaging_alone(executor, node, args.round_trips)
+        stop(procs)
+        procs.clear()
+
+        # 4. the graph
         procs.append(start(["-m", "econet_ros.nodes.world_node"]))
         procs.append(start(["-m", "econet_ros.nodes.controller_node"]))
         sup = SupervisorNode()
@@ -171,13 +266,17 @@ def main() -> int:
     print(f"in-process generation      {t_in * ms:8.1f} ms  (median of {args.generations})")
     print(f"bare round trip            {t_rtt * ms:8.3f} ms  (mean of {args.round_trips}; "
           f"median {statistics.median(rtt) * ms:.3f} ms)")
+    print(f"messaging alone            {t_msg * args.cycles * ms:8.1f} ms  ({args.cycles} x "
+          f"{t_msg * ms:.3f} ms: {t_msg / t_rtt:.2f} round trips per cycle for the four "
+          f"lockstep messages, no work; mean of {args.round_trips} cycles)")
     print(f"graph generation           {t_graph * ms:8.1f} ms  (median of {args.generations}; "
           f"fitness identical to in-process)")
     print(f"floor = in-process + {args.cycles} x round trip = {floor * ms:.1f} ms; graph is "
           f"{(t_graph - floor) * ms:+.1f} ms ({t_graph / floor:.2f}x) above it")
     print(f"target = in-process + 2 x {args.cycles} round trips = {target * ms:.1f} ms: "
           f"{'MET' if t_graph <= target else 'MISSED'} "
-          f"(overhead {(t_graph - t_in) / (args.cycles * t_rtt):.2f} round trips per cycle)")
+          f"(overhead {(t_graph - t_in) / (args.cycles * t_rtt):.2f} round trips per cycle; "
+          f"messaging alone takes {t_msg / t_rtt:.2f} of the 2 allowed)")
     whole = args.run_generations * t_graph
     print(f"projected {args.run_generations}-generation run through the graph: {whole:.0f} s "
           f"(in-process {args.run_generations * t_in:.0f} s)")
