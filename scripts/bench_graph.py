@@ -179,29 +179,40 @@ def main() -> int:
         return echo_main()
     if "--stand-in" in sys.argv:
         return stand_in_main(sys.argv[2], int(sys.argv[3]))
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--generations", type=int, default=5, help="generations to time")
-    parser.add_argument("--population", type=int, default=100)
-    parser.add_argument("--parents", type=int, default=20)
-    parser.add_argument("--trials", type=int, default=20)
-    parser.add_argument("--cycles", type=int, default=100)
-    parser.add_argument("--round-trips", type=int, default=2000)
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--generations", type=int, default=5,
+                        help="generations to time in-process and through the graph (default 5)")
+    parser.add_argument("--population", type=int, default=100, help="econets (default 100)")
+    parser.add_argument("--parents", type=int, default=20, help="parents kept (default 20)")
+    parser.add_argument("--trials", type=int, default=20,
+                        help="trials per econet (default 20)")
+    parser.add_argument("--cycles", type=int, default=100, help="cycles per trial (default 100)")
+    parser.add_argument("--round-trips", type=int, default=2000,
+                        help="round trips, and cycles of messaging alone, to time (default 2000)")
     parser.add_argument("--run-generations", type=int, default=200,
-                        help="generations of the projected whole run (default: the paper's)")
+                        help="generations of the projected whole run (default: the paper's 200)")
     args = parser.parse_args()
+    for name in ("generations", "round_trips", "run_generations"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name.replace('_', '-')} must be at least 1, "
+                         f"got {getattr(args, name)}")
     os.environ.setdefault("ROS_DOMAIN_ID", str(random.randint(120, 200)))
 
     import numpy as np
     import rclpy
 
-    from econet_ros.config import Config
+    from econet_ros.config import Config, ConfigError
     from econet_ros.evolution import Evaluator, initial_genomes
     from econet_ros.nodes import common
     from econet_ros.nodes.supervisor_node import SupervisorNode
 
     e = dict(population=args.population, parents=args.parents, trials=args.trials,
              cycles=args.cycles)
-    config = Config().replace(**{f"evolution.{k}": v for k, v in e.items()})
+    try:
+        config = Config().replace(**{f"evolution.{k}": v for k, v in e.items()}).validated()
+    except ConfigError as error:
+        parser.error(str(error))
     n_envs = args.population * args.trials
     print(f"generation: {args.population} econets x {args.trials} trials = {n_envs} "
           f"environments x {args.cycles} cycles; {os.cpu_count()} CPUs; executor "
