@@ -71,19 +71,16 @@ def stand_in_main(role: str, n_envs: int) -> int:
     the same three sensor messages, the controller answers every complete set of three with the
     same command."""
     import rclpy
-    from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+    from econet_msgs.msg import MuscleCommand
     from econet_ros.nodes import common
 
     rclpy.init()
     node = rclpy.create_node(f"bench_{role}")
     qos = common.LOCKSTEP_QOS
     sensors, command = paper_cycle_messages(n_envs)
-    types = {"touch": Touch, "proprioception": Proprioception, "retina": Retina}
-    topics = {"touch": common.TOUCH, "proprioception": common.PROPRIOCEPTION,
-              "retina": common.RETINA}
     if role == "world":
-        pubs = {part: node.create_publisher(types[part], topics[part], qos)
-                for part in common.SENSORS}
+        pubs = {part: node.create_publisher(msg_type, topic, qos)
+                for part, (msg_type, topic) in common.SENSOR_TOPICS.items()}
 
         def on_command(_data: bytes) -> None:
             for part in common.SENSORS:
@@ -100,9 +97,9 @@ def stand_in_main(role: str, n_envs: int) -> int:
             if min(heard.values()) > answered[0]:
                 answered[0] += 1
                 pub.publish(command)
-        for part in common.SENSORS:
-            node.create_subscription(types[part], topics[part],
-                                     lambda _data, part=part: on_part(part), qos, raw=True)
+        for part, (msg_type, topic) in common.SENSOR_TOPICS.items():
+            node.create_subscription(msg_type, topic, lambda _data, part=part: on_part(part),
+                                     qos, raw=True)
     try:
         common.spin(node, common.make_executor(common._executor_kind()))
     except KeyboardInterrupt:

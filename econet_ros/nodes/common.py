@@ -74,7 +74,10 @@ def as_u8(field) -> np.ndarray:
 # -- lockstep messages as bytes (see wire) -----------------------------------------------------
 CODECS = {"touch": Codec(Touch), "proprioception": Codec(Proprioception),
           "retina": Codec(Retina), "muscle_command": Codec(MuscleCommand)}
-SENSORS = ("touch", "proprioception", "retina")      # in the order the world publishes them
+# The sensor messages: part -> (message type, topic), in the order the world publishes them.
+SENSOR_TOPICS = {"touch": (Touch, TOUCH), "proprioception": (Proprioception, PROPRIOCEPTION),
+                 "retina": (Retina, RETINA)}
+SENSORS = tuple(SENSOR_TOPICS)
 
 
 def decode(node: Node, part: str, data: bytes) -> dict | None:

@@ -13,7 +13,7 @@ import sys
 import numpy as np
 from rclpy.node import Node
 
-from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+from econet_msgs.msg import MuscleCommand
 from econet_msgs.srv import SetWeights
 
 from ..plugins import PluginError, resolve
@@ -65,9 +65,7 @@ class ControllerNode(Node):
 
         qos = common.LOCKSTEP_QOS
         self.pub = self.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
-        for part, msg_type, topic in (("retina", Retina, common.RETINA),
-                                      ("proprioception", Proprioception, common.PROPRIOCEPTION),
-                                      ("touch", Touch, common.TOUCH)):
+        for part, (msg_type, topic) in common.SENSOR_TOPICS.items():
             self.create_subscription(msg_type, topic,
                                      lambda data, part=part: self._on_part(part, data), qos,
                                      raw=True)

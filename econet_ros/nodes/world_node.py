@@ -20,7 +20,7 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker, MarkerArray
 
-from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch, TrialStart
+from econet_msgs.msg import MuscleCommand, TrialStart
 from econet_msgs.srv import ResetTrials
 
 from ..bags import model_json
@@ -79,10 +79,8 @@ class WorldNode(Node):
         self.latest = None      # free mode: newest command
 
         qos = common.LOCKSTEP_QOS
-        self.sensor_pubs = {
-            "touch": self.create_publisher(Touch, common.TOUCH, qos),
-            "proprioception": self.create_publisher(Proprioception, common.PROPRIOCEPTION, qos),
-            "retina": self.create_publisher(Retina, common.RETINA, qos)}
+        self.sensor_pubs = {part: self.create_publisher(msg_type, topic, qos)
+                            for part, (msg_type, topic) in common.SENSOR_TOPICS.items()}
         self.pub_start = self.create_publisher(TrialStart, common.TRIAL_START,
                                                common.TRIAL_START_QOS)
         self.model_json = model_json(self.model)
