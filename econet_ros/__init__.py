@@ -1,20 +1,22 @@
 """econet_ros: the econet model of infant reaching (Schlesinger, Parisi & Langer, 2000) as a
-ROS-free core (this package) and ROS 2 nodes (econet_ros.nodes)."""
+ROS-free core (this package, science/, recording/, cli/) and ROS 2 nodes (econet_ros.nodes).
+The layout and the data path: docs/architecture.md."""
 import hashlib as _hashlib
 import os as _os
 from pathlib import Path as _Path
 
 # numba's cache=True revalidates a cached kernel only by the timestamp of the file that defines
 # it, not of the files whose functions it inlines (world.py's physics and controllers.py's
-# network run inside engine.py's whole-trial kernel), so after an edit or an update a stale
+# network run inside trials.py's whole-trial kernel), so after an edit or an update a stale
 # kernel could run. Keying the cache folder by the content of every module with kernels makes
-# any change start a fresh cache. An explicit NUMBA_CACHE_DIR is respected.
-_KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "engine.py")
+# any change start a fresh cache (tests/test_core_is_ros_free.py checks that this list names
+# every module with a kernel). An explicit NUMBA_CACHE_DIR is respected.
+KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "trials.py")
 
 
 def _kernel_cache_dir(package: _Path = _Path(__file__).parent) -> str:
     digest = _hashlib.sha256()
-    for name in _KERNEL_MODULES:
+    for name in KERNEL_MODULES:
         digest.update((package / name).read_bytes())
     base = _os.environ.get("XDG_CACHE_HOME") or _os.path.join(_os.path.expanduser("~"), ".cache")
     return _os.path.join(base, "econet_ros", "numba-" + digest.hexdigest()[:16])

@@ -1,5 +1,9 @@
-"""Every parameter of the model and the experiment, with the paper's values or our documented
-assumptions as defaults (see docs/assumptions.md, which explains each choice).
+"""Every parameter of the model and the experiment, each declared once, with the paper's value
+or our documented assumption as its default (docs/assumptions.md explains each choice).
+
+A field carries its help text, whether the paper fixes it, and its allowed values; the command
+line's options, the supervisor node's ROS parameters and the launch file's arguments are all
+generated from these declarations (``SETTINGS``), so they cannot drift apart.
 
 A Config is immutable and JSON-serialisable; result folders store it so that any later analysis
 or resume runs against exactly the model that produced the data.
@@ -8,59 +12,157 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from dataclasses import dataclass, field, fields
+from typing import Any, NamedTuple
+
+from .errors import ConfigError
 
 CONDITIONS = ("normal", "three-layer", "random")
 
 
-class ConfigError(ValueError):
-    """A configuration value that cannot work; the message is one line meant for the user."""
+def setting(default: Any, help: str, *, paper: bool = False, choices: tuple | None = None,
+            low: float | None = None, high: float | None = None):
+    """A config field: default, help text, whether the paper states it (else it is our
+    assumption), and the values it may take (choices, or the closed range low..high)."""
+    return field(default=default, metadata={"help": help, "paper": paper, "choices": choices,
+                                            "low": low, "high": high})
 
 
 @dataclass(frozen=True)
 class ModelConfig:
     """The body, the senses and the environment (paper: The environment, The econet, Appendix)."""
 
-    workspace_size: float = 100.0        # paper: 100 x 100 units, agent at the centre
-    segment_length: float = 25.0         # paper: each arm segment 25 units
-    hand_length: float = 5.0             # paper: the hand is the last 5 units of the forearm
-    field_of_view_deg: float = 64.0      # paper: 64 degree visual field
-    windows_per_unit: int = 8            # paper: 64 one-degree windows, 8 per visual unit
-    visual_units: int = 8                # paper: 8 visual input units
-    visual_range: float = 50.0           # paper: distance normalised by 50 (the arm's length)
-    max_rotation_deg: float = 15.0       # paper: at most 15 degrees per cycle for eye and joints
-    joint_max_deg: float = 180.0         # paper: shoulder and elbow limited to 0-180 degrees
-    object_radius: float = 2.0           # assumption: a disk of radius 2 ("a small object")
-    reach_min: float = 10.0              # assumption: object centre 10-45 units from the agent
-    reach_max: float = 45.0
-    start_posture: str = "random"        # assumption: random body axis, shoulder and elbow each trial
+    workspace_size: float = setting(100.0, "workspace width; the agent sits at its centre",
+                                    paper=True, low=1.0)
+    segment_length: float = setting(25.0, "length of each arm segment", paper=True, low=1e-3)
+    hand_length: float = setting(5.0, "the hand: the last units of the forearm", paper=True,
+                                 low=1e-3)
+    field_of_view_deg: float = setting(64.0, "visual field in degrees", paper=True, low=1.0,
+                                       high=359.0)
+    windows_per_unit: int = setting(8, "one-degree windows per visual unit", paper=True, low=1)
+    visual_units: int = setting(8, "visual input units", paper=True, low=1)
+    visual_range: float = setting(50.0, "distance that normalises vision (the arm's length)",
+                                  paper=True, low=1e-3)
+    max_rotation_deg: float = setting(15.0, "most degrees per cycle for eye and joints",
+                                      paper=True, low=0.0, high=180.0)
+    joint_max_deg: float = setting(180.0, "shoulder and elbow range 0..this (degrees)",
+                                   paper=True, low=1.0, high=360.0)
+    object_radius: float = setting(2.0, "radius of the disk-shaped object ('a small object')",
+                                   low=1e-3, high=50.0)
+    reach_min: float = setting(10.0, "nearest object centre from the agent", low=0.0)
+    reach_max: float = setting(45.0, "farthest object centre from the agent", low=0.0)
+    start_posture: str = setting("random", "trial start: random body axis and joints, or "
+                                 "'extended' (gaze +x, arm straight out)",
+                                 choices=("random", "extended"))
 
 
 @dataclass(frozen=True)
 class NetworkConfig:
     """Network sizes (paper, Appendix; hidden sizes of the four-layer net are our assumption)."""
 
-    visual_hidden: int = 4               # assumption
-    proprio_hidden: int = 4              # assumption
-    intermodal_hidden: int = 8           # assumption (the three-layer net's single layer has 8)
-    three_layer_hidden: int = 8          # paper: "a single hidden layer with eight units"
+    visual_hidden: int = setting(4, "four-layer net: visual hidden units", low=1, high=256)
+    proprio_hidden: int = setting(4, "four-layer net: proprioceptive hidden units", low=1,
+                                  high=256)
+    intermodal_hidden: int = setting(8, "four-layer net: intermodal hidden units", low=1,
+                                     high=256)
+    three_layer_hidden: int = setting(8, "three-layer net: hidden units ('eight units')",
+                                      paper=True, low=1, high=256)
 
 
 @dataclass(frozen=True)
 class EvolutionConfig:
     """The variation-and-selection algorithm (paper: The learning algorithm, Appendix)."""
 
-    condition: str = "normal"
-    population: int = 100                # paper
-    parents: int = 20                    # paper: the 20 best are selected
-    trials: int = 20                     # paper: 20 trials per econet
-    cycles: int = 100                    # paper: 100 input-output cycles per trial
-    generations: int = 200               # paper
-    weight_range: float = 10.0           # paper: weights in [-10, 10]
-    bits_per_weight: int = 8             # paper: 8 bits per weight
-    mutation_rate: float = 0.02          # paper: 2% of bits flipped
-    mutation_mode: str = "per-bit"       # assumption: each bit flips with p=2% ("exact": 2% of bits)
-    shared_trials: bool = True           # assumption: all econets of a generation face the same 20 trials
+    condition: str = setting("normal", "network: normal (four-layer), three-layer, or random "
+                             "movement", paper=True, choices=CONDITIONS)
+    population: int = setting(100, "econets per generation", paper=True, low=1)
+    parents: int = setting(20, "econets selected to reproduce", paper=True, low=1)
+    trials: int = setting(20, "trials per econet per generation", paper=True, low=1)
+    cycles: int = setting(100, "movement cycles per trial", paper=True, low=1)
+    generations: int = setting(200, "generations per run", paper=True, low=1)
+    weight_range: float = setting(10.0, "weights lie in [-this, this]", paper=True, low=1e-9)
+    bits_per_weight: int = setting(8, "bits per weight in the genome", paper=True, low=1,
+                                   high=16)
+    mutation_rate: float = setting(0.02, "share of bits flipped when copying", paper=True,
+                                   low=0.0, high=1.0)
+    mutation_mode: str = setting("per-bit", "per-bit: each bit flips with mutation_rate; "
+                                 "exact: exactly that share of each genome's bits",
+                                 choices=("per-bit", "exact"))
+    shared_trials: bool = setting(True, "all econets of a generation face the same trials")
+
+
+SECTIONS = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}
+
+
+class Setting(NamedTuple):
+    """One config field as the generated interfaces see it."""
+
+    section: str
+    name: str
+    default: Any
+    type: type
+    help: str
+    paper: bool
+    choices: tuple | None
+    low: float | None
+    high: float | None
+
+    @property
+    def key(self) -> str:
+        return f"{self.section}.{self.name}"
+
+    def describe(self) -> str:
+        """The help text with where it comes from and what it allows, for --help and ROS."""
+        allowed = ""
+        if self.choices:
+            allowed = f"; one of {', '.join(map(str, self.choices))}"
+        elif self.low is not None or self.high is not None:
+            allowed = f"; {_range_words(self)}"
+        return f"{self.help} ({'paper' if self.paper else 'assumption'}{allowed})"
+
+
+SETTINGS: tuple[Setting, ...] = tuple(
+    Setting(section, f.name, f.default, type(f.default), f.metadata["help"],
+            f.metadata["paper"], f.metadata["choices"], f.metadata["low"], f.metadata["high"])
+    for section, cls in SECTIONS.items() for f in fields(cls))
+
+
+def checked_value(item: Setting, value: Any) -> Any:
+    """value as the setting's type (ints are accepted where floats are meant), or ConfigError
+    naming the setting and what it allows."""
+    kind = item.type
+    if kind is bool:
+        ok = isinstance(value, bool)
+    elif kind is int:
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif kind is float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) \
+            and math.isfinite(value)
+        value = float(value) if ok else value
+    else:
+        ok = isinstance(value, kind)
+    if not ok:
+        raise ConfigError(f"{item.key} must be {_KIND_NAMES[kind]}, got {value!r}")
+    if item.choices and value not in item.choices:
+        raise ConfigError(f"{item.key} must be one of {', '.join(map(str, item.choices))}, "
+                          f"got {value!r}")
+    below = item.low is not None and value < item.low
+    if below or (item.high is not None and value > item.high):
+        raise ConfigError(f"{item.key} must be {_range_words(item)}, got {value!r}")
+    return value
+
+
+def _range_words(item: Setting) -> str:
+    if item.low is None:
+        return f"at most {item.high:g}"
+    if item.high is None:
+        return f"at least {item.low:g}"
+    return f"between {item.low:g} and {item.high:g}"
+
+
+_KIND_NAMES = {bool: "true or false", int: "a whole number", float: "a finite number",
+               str: "a string"}
 
 
 @dataclass(frozen=True)
@@ -80,19 +182,15 @@ class Config:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Config":
-        sections = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}
-        unknown = set(data) - set(sections)
+    def from_dict(cls, data: Any) -> "Config":
+        """A validated Config from nested sections; missing settings take their defaults."""
+        if not isinstance(data, dict):
+            raise ConfigError(f"a config must be a JSON object of sections "
+                              f"({', '.join(SECTIONS)}), got {type(data).__name__}")
+        unknown = set(data) - set(SECTIONS)
         if unknown:
             raise ConfigError(f"unknown config section(s): {', '.join(sorted(unknown))}")
-        parts = {}
-        for name, section_cls in sections.items():
-            values = data.get(name, {})
-            known = {f.name for f in fields(section_cls)}
-            bad = set(values) - known
-            if bad:
-                raise ConfigError(f"unknown {name} setting(s): {', '.join(sorted(bad))}")
-            parts[name] = section_cls(**values)
+        parts = {name: section_from_dict(name, data.get(name, {})) for name in SECTIONS}
         return cls(**parts).validated()
 
     def replace(self, **dotted: object) -> "Config":
@@ -106,40 +204,35 @@ class Config:
         return Config.from_dict(data)
 
     def validated(self) -> "Config":
-        """Return self, or raise ConfigError naming the first value that cannot work."""
-        m, n, e = self.model, self.network, self.evolution
+        """Return self, or raise ConfigError naming the first value that cannot work together
+        with the others (each value's own type and range are checked on reading)."""
+        m, e = self.model, self.evolution
         checks = [
-            (e.condition in CONDITIONS,
-             f"unknown condition '{e.condition}' (choose from {', '.join(CONDITIONS)})"),
-            (e.population >= 1, f"population must be at least 1, got {e.population}"),
-            (1 <= e.parents <= e.population,
+            (e.parents <= e.population,
              f"parents must be between 1 and the population ({e.population}), got {e.parents}"),
             (e.population % e.parents == 0,
              f"population ({e.population}) must be a multiple of parents ({e.parents})"),
-            (e.trials >= 1, f"trials must be at least 1, got {e.trials}"),
-            (e.cycles >= 1, f"cycles must be at least 1, got {e.cycles}"),
-            (e.generations >= 1, f"generations must be at least 1, got {e.generations}"),
-            (e.weight_range > 0, f"weight_range must be positive, got {e.weight_range}"),
-            (1 <= e.bits_per_weight <= 16,
-             f"bits_per_weight must be 1-16, got {e.bits_per_weight}"),
-            (0.0 <= e.mutation_rate <= 1.0,
-             f"mutation_rate must be in [0, 1], got {e.mutation_rate}"),
-            (e.mutation_mode in ("per-bit", "exact"),
-             f"mutation_mode must be 'per-bit' or 'exact', got '{e.mutation_mode}'"),
-            (m.start_posture in ("random", "extended"),
-             f"start_posture must be 'random' or 'extended', got '{m.start_posture}'"),
-            (m.object_radius > 0, f"object_radius must be positive, got {m.object_radius}"),
-            (0 <= m.reach_min <= m.reach_max <= 2 * m.segment_length + m.object_radius,
+            (m.reach_min <= m.reach_max <= 2 * m.segment_length + m.object_radius,
              "reach_min/reach_max must satisfy 0 <= reach_min <= reach_max <= arm length + radius"),
             (m.visual_units * m.windows_per_unit == round(m.field_of_view_deg),
              "visual_units x windows_per_unit must equal the field of view in degrees"),
-            (min(n.visual_hidden, n.proprio_hidden, n.intermodal_hidden,
-                 n.three_layer_hidden) >= 1, "hidden layer sizes must be at least 1"),
         ]
         for ok, message in checks:
             if not ok:
                 raise ConfigError(message)
         return self
+
+
+def section_from_dict(name: str, values: Any):
+    """One section's dataclass from a dict of its settings, each checked on its own."""
+    if not isinstance(values, dict):
+        raise ConfigError(f"config section '{name}' must be a JSON object, got "
+                          f"{type(values).__name__}")
+    known = {s.name: s for s in SETTINGS if s.section == name}
+    bad = set(values) - set(known)
+    if bad:
+        raise ConfigError(f"unknown {name} setting(s): {', '.join(sorted(bad))}")
+    return SECTIONS[name](**{k: checked_value(known[k], v) for k, v in values.items()})
 
 
 def load_config(path: str) -> Config:
@@ -149,6 +242,22 @@ def load_config(path: str) -> Config:
             data = json.load(handle)
     except OSError as error:
         raise ConfigError(f"cannot read config {path}: {error.strerror}") from None
-    except json.JSONDecodeError as error:
+    except (json.JSONDecodeError, UnicodeDecodeError) as error:
         raise ConfigError(f"config {path} is not valid JSON: {error}") from None
     return Config.from_dict(data)
+
+
+def model_json(model: ModelConfig) -> str:
+    """The model section as the JSON a TrialStart message (and so every bag) carries."""
+    return json.dumps(dataclasses.asdict(model), sort_keys=True)
+
+
+def model_from_json(text: str) -> ModelConfig:
+    """The model a TrialStart's JSON describes (defaults when empty), validated."""
+    if not text:
+        return ModelConfig()
+    try:
+        values = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise ConfigError(f"model settings are not valid JSON: {error}") from None
+    return Config(model=section_from_dict("model", values)).validated().model

@@ -182,14 +182,6 @@ class RandomMovement(Controller):
         return CompiledPolicy(motor_table=self._rng.random((cycles, self.n_envs, N_MOTOR)))
 
 
-def make_controller(name: str, n_envs: int, config: Config) -> Controller:
-    """A controller by name: a paper condition ('normal', 'three-layer', 'random'), any other
-    registered plug-in (e.g. 'reacher'), or 'module:Class' (see econet_ros.plugins)."""
-    from .plugins import resolve   # plugins imports this module
-
-    return resolve(name)(n_envs, config)
-
-
 # --- the logistic, vectorised -------------------------------------------------------------------
 
 @numba.njit(cache=True, inline="always")

@@ -5,18 +5,20 @@ population x trials environments, environment e = econet * trials + trial), the 
 ranked by fitness, the best ``parents`` are kept and each is copied population/parents times
 with bit-flip mutation. Every random draw comes from a stream named by (seed, run, generation,
 purpose), so a run is a pure function of its seed and can resume from any finished generation.
+The loop that runs generations into a result folder is ``runs.evolve_into``; an ``Evaluator``
+is what it tests populations with (this in-process one, or the node graph's).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from . import genome
 from .config import Config
-from .controllers import Controller, make_controller
-from .engine import TrialMeasures, Trace, run_trials
+from .controllers import Controller
+from .plugins import make_controller
+from .trials import TrialMeasures, Trace, run_trials
 from .world import TrialSetup, World, sample_setups
 
 # Purposes of the random streams of one generation.
@@ -31,6 +33,23 @@ def rng_for(seed: int, run: int, generation: int, purpose: int) -> np.random.Gen
 def noise_seed(seed: int, run: int, generation: int) -> int:
     """The seed of a generation's movement noise (used by the random-movement controller)."""
     return int(rng_for(seed, run, generation, _NOISE).integers(2 ** 63))
+
+
+def genome_weights(config: Config, genomes: np.ndarray) -> np.ndarray:
+    """The real-valued weights genomes code for (the one decode every caller uses)."""
+    e = config.evolution
+    return genome.decode(genomes, e.bits_per_weight, e.weight_range)
+
+
+def generation_setups(config: Config, seed: int, run: int, generation: int) -> TrialSetup:
+    """A generation's trial starts, one per environment (environment e = econet * trials +
+    trial): the same ``trials`` starts for every econet, or fresh ones per econet."""
+    e = config.evolution
+    rng = rng_for(seed, run, generation, _SETUPS)
+    if e.shared_trials:
+        shared = sample_setups(rng, e.trials, config.model)
+        return shared.take(np.tile(np.arange(e.trials), e.population))
+    return sample_setups(rng, e.population * e.trials, config.model)
 
 
 def score_generation(config: Config, generation: int, genomes: np.ndarray,
@@ -76,21 +95,16 @@ class Evaluator:
 
     def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
         """The generation's trial starts, laid out per environment."""
-        e = self.config.evolution
-        rng = rng_for(seed, run, generation, _SETUPS)
-        if e.shared_trials:
-            shared = sample_setups(rng, e.trials, self.config.model)
-            return shared.take(np.tile(np.arange(e.trials), e.population))
-        return sample_setups(rng, self.n_envs, self.config.model)
+        return generation_setups(self.config, seed, run, generation)
 
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
                         record: bool = False) -> GenerationResult:
         """Test one generation exactly as the evolutionary run does (same trials and noise)."""
-        e = self.config.evolution
-        weights = genome.decode(genomes, e.bits_per_weight, e.weight_range)
+        weights = genome_weights(self.config, genomes)
         self.controller.load(weights, noise_seed(seed, run, generation))  # one per econet
         measures, trace = run_trials(self.world, self.controller,
-                                     self.trial_setups(seed, run, generation), e.cycles, record)
+                                     self.trial_setups(seed, run, generation),
+                                     self.config.evolution.cycles, record)
         result = score_generation(self.config, generation, genomes, measures)
         result.trace = trace
         return result
@@ -113,22 +127,3 @@ def next_generation(config: Config, result: GenerationResult, seed: int, run: in
     copies = np.repeat(result.genomes[result.parents], config.offspring_per_parent, axis=0)
     rng = rng_for(seed, run, result.generation, _MUTATION)
     return genome.mutate(rng, copies, e.bits_per_weight, e.mutation_rate, e.mutation_mode)
-
-
-def evolve(config: Config, seed: int, run: int, evaluator: Evaluator | None = None,
-           start: tuple[int, np.ndarray] | None = None,
-           on_generation: Callable[[GenerationResult, np.ndarray], None] | None = None,
-           record: bool = False) -> np.ndarray:
-    """Run (or continue) one evolutionary run; returns the final population's genomes.
-
-    start: (generation, genomes) to continue from; default a fresh random population.
-    on_generation(result, offspring) is called after each generation is tested.
-    """
-    evaluator = evaluator or Evaluator(config)
-    generation, genomes = start or (0, initial_genomes(config, evaluator.n_weights, seed, run))
-    for generation in range(generation, config.evolution.generations):
-        result = evaluator.test_generation(genomes, seed, run, generation, record)
-        genomes = next_generation(config, result, seed, run)
-        if on_generation:
-            on_generation(result, genomes)
-    return genomes

@@ -6,14 +6,18 @@ A controller name is one of
       controllers and the ``reacher`` there too), or
     * ``module:Class``, naming a class on the Python path directly.
 Either way the class must subclass ``econet_ros.controllers.Controller`` and is constructed as
-``Class(n_envs, config)``. The command line, the controller node and the supervisor all resolve
-names here.
+``Class(n_envs, config)``. The command line, the evolution, the controller node and the
+supervisor all resolve names here (``make_controller``).
 """
 from __future__ import annotations
 
 import importlib
 import inspect
 from importlib.metadata import entry_points
+
+from .config import Config
+from .controllers import Controller
+from .errors import PluginError
 
 GROUP = "econet_ros.controllers"
 
@@ -27,10 +31,6 @@ BUILTIN = {
 }
 
 
-class PluginError(ValueError):
-    """A controller name that cannot be used; the message is one line for the user."""
-
-
 def registered() -> dict[str, str]:
     """Every registered controller name and the ``module:Class`` it stands for."""
     names = dict(BUILTIN)
@@ -40,8 +40,6 @@ def registered() -> dict[str, str]:
 
 def resolve(name: str) -> type:
     """The Controller class a name stands for (PluginError if there is none)."""
-    from .controllers import Controller
-
     target = registered().get(name, name)
     module_name, sep, attribute = target.partition(":")
     if not sep or not module_name or not attribute:
@@ -63,3 +61,9 @@ def resolve(name: str) -> type:
         missing = ", ".join(sorted(cls.__abstractmethods__))
         raise PluginError(f"controller '{name}': {target} does not implement {missing}")
     return cls
+
+
+def make_controller(name: str, n_envs: int, config: Config) -> Controller:
+    """A controller by name: a paper condition ('normal', 'three-layer', 'random'), any other
+    registered plug-in (e.g. 'reacher'), or 'module:Class'."""
+    return resolve(name)(n_envs, config)

@@ -44,6 +44,7 @@ import numpy as np
 
 from .config import ModelConfig
 from .elementary import ATAN2_ERROR, atan2_approx, cos_sin_deg
+from .errors import SetupError
 
 N_MOTOR = 5
 N_PROPRIO = 4
@@ -99,15 +100,40 @@ def sample_setups(rng: np.random.Generator, n: int, model: ModelConfig) -> Trial
     return TrialSetup(object_xy, body, shoulder, elbow)
 
 
+_REACH_TOLERANCE = 1e-9   # sampled radii pass through sqrt and cos/sin: allow their rounding
+
+
 def reach_error(object_xy: np.ndarray, model: ModelConfig) -> str | None:
     """Why an object position is outside the reachable annulus, or None if it is inside."""
     distance = np.hypot(object_xy[..., 0], object_xy[..., 1])
-    bad = (distance < model.reach_min) | (distance > model.reach_max)
+    bad = (distance < model.reach_min - _REACH_TOLERANCE) | \
+        (distance > model.reach_max + _REACH_TOLERANCE)
     if np.any(bad):
         worst = float(np.ravel(distance)[np.argmax(np.ravel(bad))])
         return (f"object at distance {worst:.2f} is out of reach "
                 f"(allowed {model.reach_min:g}-{model.reach_max:g})")
     return None
+
+
+def check_setup(setup: TrialSetup, model: ModelConfig) -> None:
+    """Raise SetupError (one line) unless every trial start can be run as given: one value per
+    environment, all finite, the object within reach, both joints within their range. The world
+    node and World.reset apply the same rule, so nothing is silently clipped."""
+    n = len(setup.body)
+    for name, values, width in (("object_xy", setup.object_xy, 2), ("body", setup.body, 1),
+                                ("shoulder", setup.shoulder, 1), ("elbow", setup.elbow, 1)):
+        values = np.asarray(values)
+        if values.shape != ((n, 2) if width == 2 else (n,)):
+            raise SetupError(f"{name} has shape {values.shape}, expected "
+                             f"{(n, 2) if width == 2 else (n,)} for {n} environment(s)")
+        if not np.all(np.isfinite(values)):
+            raise SetupError(f"{name} contains NaN or infinite values")
+    problem = reach_error(np.asarray(setup.object_xy), model)
+    if problem:
+        raise SetupError(problem)
+    for name, values in (("shoulder", setup.shoulder), ("elbow", setup.elbow)):
+        if np.min(values, initial=0.0) < 0 or np.max(values, initial=0.0) > model.joint_max_deg:
+            raise SetupError(f"{name} angles must lie within 0-{model.joint_max_deg:g} degrees")
 
 
 class Geometry(NamedTuple):
@@ -156,15 +182,15 @@ class World:
         self.refresh()
 
     def reset(self, setup: TrialSetup) -> Observation:
-        """Start a new trial in every environment; returns the cycle-0 observation."""
+        """Start a new trial in every environment; returns the cycle-0 observation. Trial starts
+        that cannot be run as given raise SetupError (see check_setup)."""
         if len(setup) != self.n_envs:
-            raise ValueError(f"reset needs {self.n_envs} trial setups, got {len(setup)}")
-        self.body = np.asarray(setup.body, dtype=np.float64).copy()
-        self.shoulder = np.clip(np.asarray(setup.shoulder, dtype=np.float64), 0,
-                                self.model.joint_max_deg)
-        self.elbow = np.clip(np.asarray(setup.elbow, dtype=np.float64), 0,
-                             self.model.joint_max_deg)
-        self.object_xy = np.asarray(setup.object_xy, dtype=np.float64).copy()
+            raise SetupError(f"reset needs {self.n_envs} trial setups, got {len(setup)}")
+        check_setup(setup, self.model)
+        self.body = np.array(setup.body, dtype=np.float64)
+        self.shoulder = np.array(setup.shoulder, dtype=np.float64)
+        self.elbow = np.array(setup.elbow, dtype=np.float64)
+        self.object_xy = np.array(setup.object_xy, dtype=np.float64)
         self.cycle = 0
         self.refresh()
         return self.observe()

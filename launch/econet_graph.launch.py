@@ -3,7 +3,9 @@
     ros2 launch econet_ros econet_graph.launch.py [generations:=10 population:=20 ...]
 
 (world_node, controller_node and supervisor_node as three processes; the supervisor evolves a
-population through the graph and writes its result folder to `out`.) The launch package is not
+population through the graph and writes its result folder to `out`.) Its arguments are the
+supervisor's parameters, generated from the same declarations (econet_ros.config's evolution
+settings and the supervisor's run parameters), so they cannot drift. The launch package is not
 installable here; scripts/graph-demo does the same from a checkout.
 """
 from launch import LaunchDescription
@@ -11,17 +13,14 @@ from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
+from econet_ros.config import SETTINGS
+from econet_ros.nodes.supervisor_node import RUN_PARAMETERS
+
 ARGS = {
-    "condition": ("normal", "network of the controller and condition of the run"),
     "config": ("", "JSON config file shared by all three nodes"),
-    "out": ("results/graph", "result folder"),
-    "generations": ("200", "generations per run"),
-    "population": ("100", "econets per generation"),
-    "parents": ("20", "econets selected to reproduce"),
-    "trials": ("20", "trials per econet"),
-    "cycles": ("100", "cycles per trial"),
-    "seed": ("1", "base random seed"),
-    "runs": ("1", "independent runs"),
+    **{item.name: (str(item.default), item.describe()) for item in SETTINGS
+       if item.section == "evolution"},
+    **{name: (str(default), text) for name, (default, text) in RUN_PARAMETERS.items()},
 }
 
 

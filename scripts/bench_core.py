@@ -23,7 +23,8 @@ import numba
 import numpy as np
 
 from econet_ros.config import CONDITIONS, Config
-from econet_ros.controllers import _forward_batch, make_controller
+from econet_ros.controllers import _forward_batch
+from econet_ros.plugins import make_controller
 from econet_ros.evolution import Evaluator, evolve
 from econet_ros.world import World, _sense_batch, sample_setups
 

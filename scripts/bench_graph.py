@@ -36,15 +36,16 @@ def echo_main() -> int:
     """The far end of the ping-pong: answer every ping on `ping` with a pong on `pong`."""
     import rclpy
     from econet_msgs.msg import Touch
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
+    from econet_ros.nodes.runner import make_executor, spin
 
     rclpy.init()
     node = rclpy.create_node("bench_echo")
     pub = node.create_publisher(Touch, "pong", common.LOCKSTEP_QOS)
     node.create_subscription(Touch, "ping", pub.publish, common.LOCKSTEP_QOS)
-    executor = common.make_executor(common._executor_kind())
+    executor = make_executor()
     try:
-        common.spin(node, executor)
+        spin(node, executor)
     except KeyboardInterrupt:
         pass
     return 0
@@ -54,15 +55,14 @@ def paper_cycle_messages(n_envs: int) -> tuple[dict[str, bytes], bytes]:
     """One cycle's serialized sensor messages and muscle command, at their real sizes."""
     import numpy as np
     from econet_ros.config import Config
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
     from econet_ros.world import N_MOTOR, World, sample_setups
 
     model = Config().model
     world = World(n_envs, model)
     world.reset(sample_setups(np.random.default_rng(0), n_envs, model))
     sensors = common.encode_sensors(world.observe(), 1, False)
-    command = common.CODECS["muscle_command"].encode(
-        trial=1, cycle=0, n_envs=n_envs, activation=np.full((n_envs, N_MOTOR), 0.5))
+    command = common.encode_command(1, 0, np.full((n_envs, N_MOTOR), 0.5))
     return sensors, command
 
 
@@ -71,25 +71,23 @@ def stand_in_main(role: str, n_envs: int) -> int:
     the same three sensor messages, the controller answers every complete set of three with the
     same command."""
     import rclpy
-    from econet_msgs.msg import MuscleCommand
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
+    from econet_ros.nodes.runner import make_executor, spin
+    from econet_ros.topics import COMMAND, SENSORS
 
     rclpy.init()
     node = rclpy.create_node(f"bench_{role}")
-    qos = common.LOCKSTEP_QOS
     sensors, command = paper_cycle_messages(n_envs)
     if role == "world":
-        pubs = {part: node.create_publisher(msg_type, topic, qos)
-                for part, (msg_type, topic) in common.SENSOR_TOPICS.items()}
+        pubs = {part: common.publisher(node, part) for part in SENSORS}
 
         def on_command(_data: bytes) -> None:
-            for part in common.SENSORS:
+            for part in SENSORS:
                 pubs[part].publish(sensors[part])
-        node.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, on_command, qos,
-                                 raw=True)
+        common.subscription(node, COMMAND, on_command, raw=True)
     else:
-        pub = node.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
-        heard = dict.fromkeys(common.SENSORS, 0)
+        pub = common.publisher(node, COMMAND)
+        heard = dict.fromkeys(SENSORS, 0)
         answered = [0]
 
         def on_part(part: str) -> None:
@@ -97,11 +95,10 @@ def stand_in_main(role: str, n_envs: int) -> int:
             if min(heard.values()) > answered[0]:
                 answered[0] += 1
                 pub.publish(command)
-        for part, (msg_type, topic) in common.SENSOR_TOPICS.items():
-            node.create_subscription(msg_type, topic, lambda _data, part=part: on_part(part),
-                                     qos, raw=True)
+        for part in SENSORS:
+            common.subscription(node, part, lambda _data, part=part: on_part(part), raw=True)
     try:
-        common.spin(node, common.make_executor(common._executor_kind()))
+        spin(node, make_executor())
     except KeyboardInterrupt:
         pass
     return 0
@@ -110,17 +107,16 @@ def stand_in_main(role: str, n_envs: int) -> int:
 def messaging_alone(executor, node, n: int) -> float:
     """Mean seconds per cycle of the stand-in world and controller (n cycles after 50 warm-up
     ones), heard on touch as the supervisor hears them."""
-    from econet_msgs.msg import MuscleCommand, Touch
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
 
     touches = []
-    listen = node.create_subscription(Touch, common.TOUCH, lambda _data: touches.append(
-        time.perf_counter()), common.LOCKSTEP_QOS, raw=True)
-    kick = node.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, common.LOCKSTEP_QOS)
+    listen = common.subscription(node, "touch", lambda _data: touches.append(
+        time.perf_counter()), raw=True)
+    kick = common.publisher(node, "muscle_command")
     spin_until(executor, lambda: kick.get_subscription_count() > 0
-               and node.count_publishers(common.MUSCLE_COMMAND) > 1
-               and node.count_publishers(common.TOUCH) > 0
-               and node.count_subscribers(common.RETINA) > 0)
+               and node.count_publishers("muscle_command") > 1
+               and node.count_publishers("touch") > 0
+               and node.count_subscribers("retina") > 0)
     kick.publish(paper_cycle_messages(1)[1])          # the first command; then they run alone
     spin_until(executor, lambda: len(touches) > n + 50)
     node.destroy_subscription(listen)
@@ -155,7 +151,7 @@ def spin_until(executor, done, timeout: float = 20.0) -> None:
 
 def round_trip(executor, node, n: int) -> list[float]:
     from econet_msgs.msg import Touch
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
 
     got = []
     pub = node.create_publisher(Touch, "ping", common.LOCKSTEP_QOS)
@@ -201,7 +197,7 @@ def main() -> int:
 
     from econet_ros.config import Config, ConfigError
     from econet_ros.evolution import Evaluator, initial_genomes
-    from econet_ros.nodes import common
+    from econet_ros.nodes.runner import make_executor
     from econet_ros.nodes.supervisor_node import SupervisorNode
 
     e = dict(population=args.population, parents=args.parents, trials=args.trials,
@@ -213,7 +209,7 @@ def main() -> int:
     n_envs = args.population * args.trials
     print(f"generation: {args.population} econets x {args.trials} trials = {n_envs} "
           f"environments x {args.cycles} cycles; {os.cpu_count()} CPUs; executor "
-          f"{common._executor_kind()}")
+          f"{os.environ.get('ECONET_EXECUTOR', 'events')}")
 
     # 1. in-process
     evaluator = Evaluator(config)
@@ -230,7 +226,7 @@ def main() -> int:
     rclpy.init(args=["bench", "--ros-args", "-p", "out:=/tmp/econet-bench-unused",
                      *[x for k, v in e.items() for x in ("-p", f"{k}:={v}")]])
     try:
-        executor = common.make_executor(common._executor_kind())
+        executor = make_executor()
         # 2. bare round trip
         procs.append(start([__file__, "--echo"]))
         node = rclpy.create_node("bench_ping")
@@ -251,14 +247,14 @@ def main() -> int:
         procs.append(start(["-m", "econet_ros.nodes.world_node"]))
         procs.append(start(["-m", "econet_ros.nodes.controller_node"]))
         sup = SupervisorNode()
-        sup.executor_ = executor
+        sup.evaluator.executor = executor
         executor.add_node(sup)
-        sup._wait_for_graph()
-        sup.test_generation(genomes, 1, 1, 0)              # warm up (first big messages)
+        sup.evaluator.wait_for_graph()
+        sup.evaluator.test_generation(genomes, 1, 1, 0)    # warm up (first big messages)
         graph = []
         for g in range(args.generations):
             t0 = time.perf_counter()
-            result = sup.test_generation(genomes, 1, 1, g)
+            result = sup.evaluator.test_generation(genomes, 1, 1, g)
             graph.append(time.perf_counter() - t0)
             if not np.array_equal(result.fitness, expected[g]):
                 raise SystemExit(f"bench_graph: error: generation {g}: graph fitness differs "

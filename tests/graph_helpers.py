@@ -79,11 +79,11 @@ def ros_session(tmp_path_factory, domain: int, label: str):
     saved = os.environ.get("ROS_DOMAIN_ID")
     os.environ["ROS_DOMAIN_ID"] = str(domain)
     import rclpy
-    from econet_ros.nodes import common
+    from econet_ros.nodes.runner import make_executor
 
     rclpy.init()
     procs = Processes(tmp_path_factory.mktemp(f"{label}-logs"))
-    executor = common.make_executor()
+    executor = make_executor()
     yield rclpy, executor, procs
     procs.stop_all()
     for node in list(executor.get_nodes()):     # leave no participant behind for later modules

@@ -2,10 +2,12 @@
 import numpy as np
 import pytest
 
-from econet_ros import analysis as A
+from econet_ros.science import lesion
+from econet_ros.science import measures as A
 from econet_ros.config import Config
-from econet_ros.controllers import Controller, FourLayerNetwork, make_controller
-from econet_ros.engine import run_trials
+from econet_ros.controllers import Controller, FourLayerNetwork
+from econet_ros.plugins import make_controller
+from econet_ros.trials import run_trials
 from econet_ros.world import TrialSetup, World, sample_setups
 
 
@@ -145,7 +147,7 @@ def test_severing_proprioception_removes_its_influence():
     net = FourLayerNetwork(2, config)
     rng = np.random.default_rng(3)
     weights = rng.uniform(-10, 10, (1, net.n_params))
-    cut = A.sever_proprioception(weights, config, "normal")
+    cut = lesion.sever_proprioception(weights, config, "normal")
     assert np.count_nonzero(weights - cut) == 4 * config.network.proprio_hidden
     net.load(np.repeat(cut, 2, axis=0))
     inputs = np.zeros((2, 13))
@@ -156,7 +158,7 @@ def test_severing_proprioception_removes_its_influence():
     np.testing.assert_allclose(out[0], out[1])
     net.load(np.repeat(weights, 2, axis=0))
     assert not np.allclose(*net.forward(inputs))            # intact: posture matters
-    mask3 = A.proprioceptive_weight_mask(config, "three-layer")
+    mask3 = lesion.proprioceptive_weight_mask(config, "three-layer")
     assert mask3.sum() == 4 * config.network.three_layer_hidden
 
 

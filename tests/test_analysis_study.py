@@ -7,8 +7,9 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.config import Config
-from econet_ros.report import build_report
-from econet_ros.study import StudyError, StudySpec, load_study, run_study
+from econet_ros.science.report import build_report
+from econet_ros.errors import ResultsError
+from econet_ros.science.study import StudySpec, load_study, run_study
 
 TINY = ["--runs", "2", "--generations", "4", "--population", "10", "--parents", "2",
         "--trials", "3", "--cycles", "25", "--quiet", "--jobs", "1"]
@@ -102,7 +103,7 @@ def test_analyze_errors_name_what_is_missing(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "econet-study/0" in err and err.count("\n") == 1
     (tmp_path / "study.json").write_text(tiny_spec().to_json())
-    with pytest.raises(StudyError, match="no finished generation"):
+    with pytest.raises(ResultsError, match="no finished generation"):
         load_study(tmp_path)
     assert main(["analyze", str(tmp_path)]) == 2
 
@@ -112,7 +113,7 @@ def test_old_behaviour_columns_are_reported(tiny_study, tmp_path):
     shutil.copytree(tiny_study, copy)
     path = copy / "normal" / "run-01" / "behaviour.csv"
     path.write_text("generation,flexion\n0,50\n")
-    with pytest.raises(StudyError, match="behaviour.csv has columns from another version"):
+    with pytest.raises(ResultsError, match="behaviour.csv has columns from another version"):
         load_study(copy)
 
 

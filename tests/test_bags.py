@@ -8,10 +8,10 @@ import time
 import numpy as np
 import pytest
 
-from econet_ros import bags
+from econet_ros.recording import bags
 from econet_ros.cli import main
 from econet_ros.config import Config
-from econet_ros.controllers import make_controller
+from econet_ros.plugins import make_controller
 from econet_ros.world import World, sample_setups
 
 from graph_helpers import call, ros_session, spin_until
@@ -88,7 +88,7 @@ def test_interrupted_recording_is_still_a_readable_bag(ros, tmp_path):
     rclpy, executor, procs = ros
     from econet_msgs.msg import Touch
     from econet_msgs.srv import ResetTrials, SetWeights
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
 
     ns, path = "/bagint", tmp_path / "interrupted"
     procs.start("world", ns)
@@ -135,8 +135,9 @@ def recorded_in_process(path, n=3, cycles=30, tamper=False):
     config = Config()
     world, controller = World(n, config.model), make_controller("reacher", n, config)
     writer = bags.TrialBagWriter(path)
-    obs = world.reset(sample_setups(np.random.default_rng(3), n, config.model))
-    writer.start(world, cycles)
+    setup = sample_setups(np.random.default_rng(3), n, config.model)
+    obs = world.reset(setup)
+    writer.start(setup, config.model, cycles)
     writer.sensors(obs, cycles)
     for t in range(cycles):
         motor = controller.act(obs)

@@ -5,15 +5,21 @@ import sys
 import pytest
 
 from econet_ros.cli import main
-from econet_ros.results import RunData
+from econet_ros.runs import RunData
 
 
 @pytest.mark.parametrize("arguments, fragment", [
     (["--condition", "five-layer"], "invalid choice: 'five-layer'"),
     (["--population", "20", "--parents", "30"], "parents must be between 1 and the population"),
     (["--trials", "-3"], "trials must be at least 1"),
-    (["--generations", "0"], "must be a positive whole number"),
-    (["--set", "model.object_radius=-1"], "object_radius must be positive"),
+    (["--generations", "0"], "evolution.generations must be at least 1, got 0"),
+    (["--runs", "0"], "must be a positive whole number"),
+    (["--set", "model.object_radius=-1"], "model.object_radius must be between"),
+    (["--set", "evolution.population=abc"], "evolution.population must be a whole number"),
+    (["--set", "evolution.shared_trials=no"], "evolution.shared_trials must be true or false"),
+    (["--set", "model.object_radius=1e309"], "model.object_radius must be a finite number"),
+    (["--population", "many"], "argument --population: invalid int value: 'many'"),
+    (["--start-posture", "crouched"], "invalid choice: 'crouched'"),
     (["--set", "model.colour=3"], "unknown setting 'model.colour'"),
     (["--config", "/nonexistent/settings.json"], "cannot read config"),
 ])
@@ -60,5 +66,19 @@ def test_evolve_writes_run_folders_and_says_where(tmp_path, capsys):
 def test_help_explains_the_command():
     result = subprocess.run([sys.executable, "-m", "econet_ros", "evolve", "--help"],
                             capture_output=True, text=True, check=True)
-    for option in ("--condition", "--runs", "--generations", "--seed", "--out", "--set"):
+    for option in ("--condition", "--runs", "--generations", "--seed", "--out", "--set",
+                   "--object-radius", "--mutation-mode", "--visual-hidden"):
         assert option in result.stdout
+    # the help text of a setting comes from its config field, with its origin and range
+    assert "(assumption; between 0.001 and 50)" in " ".join(result.stdout.split())
+
+
+def test_options_override_the_config_file_only_when_given(tmp_path, capsys):
+    settings = tmp_path / "settings.json"
+    settings.write_text('{"evolution": {"population": 8, "parents": 2, "trials": 2, '
+                        '"cycles": 5, "generations": 2}, "model": {"object_radius": 3}}')
+    assert main(["evolve", "--out", str(tmp_path / "r"), "--quiet", "--runs", "1",
+                 "--config", str(settings), "--cycles", "6"]) == 0
+    config = RunData(tmp_path / "r" / "run-01").config
+    assert (config.evolution.population, config.evolution.cycles) == (8, 6)
+    assert config.model.object_radius == 3.0

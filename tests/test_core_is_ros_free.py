@@ -1,22 +1,53 @@
 """The core (everything outside econet_ros/nodes) must work on machines without ROS: importing
-it, and running its command line, never loads rclpy or any ROS message package."""
+it, and running its command line, never loads rclpy or any ROS message package. And the layout's
+rules: nothing in nodes/ imports the command line, and the kernel cache key lists every module
+with compiled kernels."""
 import pkgutil
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 import econet_ros
 
-CORE = sorted(m.name for m in pkgutil.iter_modules(econet_ros.__path__)
-              if m.name not in ("nodes", "__main__"))
+PACKAGE = Path(econet_ros.__file__).parent
+ROS = ("rclpy", "econet_msgs", "sensor_msgs", "std_msgs", "visualization_msgs", "geometry_msgs",
+       "rcl_interfaces")
+
+
+def core_modules() -> list[str]:
+    """Every module of the package and its subpackages, except the ROS adapters."""
+    return sorted(m.name for m in pkgutil.walk_packages(econet_ros.__path__, "econet_ros.")
+                  if not m.name.startswith("econet_ros.nodes") and m.name != "econet_ros.__main__")
 
 
 def test_core_modules_load_no_ros():
-    assert {"world", "controllers", "evolution", "engine", "analysis", "bags"} <= set(CORE)
+    core = core_modules()
+    assert {"econet_ros.world", "econet_ros.controllers", "econet_ros.trials",
+            "econet_ros.science.measures",
+            "econet_ros.recording.bags", "econet_ros.cli.main", "econet_ros.topics"} <= set(core)
     code = ("import sys\n"
-            + "".join(f"import econet_ros.{name}\n" for name in CORE)
-            + "ros = sorted(m for m in sys.modules if m.split('.')[0] in "
-              "('rclpy', 'econet_msgs', 'sensor_msgs', 'std_msgs', 'visualization_msgs'))\n"
+            + "".join(f"import {name}\n" for name in core)
+            + f"ros = sorted(m for m in sys.modules if m.split('.')[0] in {ROS!r})\n"
             + "print(','.join(ros))\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True)
     assert result.stdout.strip() == "", f"ROS modules loaded by the core: {result.stdout}"
+
+
+def test_only_nodes_import_ros_and_no_node_imports_the_command_line():
+    pattern = re.compile(r"^\s*(?:from|import)\s+(" + "|".join(ROS) + r")\b", re.M)
+    for path in PACKAGE.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        inside_nodes = "nodes" in path.relative_to(PACKAGE).parts
+        if not inside_nodes:
+            assert not pattern.search(text), f"{path} imports ROS outside nodes/"
+        else:
+            assert not re.search(r"^\s*from\s+\.\.cli\b|econet_ros\.cli\b", text, re.M), \
+                f"{path} imports the command line"
+
+
+def test_kernel_cache_key_lists_every_module_with_kernels():
+    with_kernels = {str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")
+                    if "@numba.njit" in p.read_text(encoding="utf-8")}
+    assert with_kernels == set(econet_ros.KERNEL_MODULES)

@@ -9,9 +9,10 @@ import pytest
 
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.controllers import logistic, make_controller
+from econet_ros.controllers import logistic
+from econet_ros.plugins import make_controller
 from econet_ros.elementary import EXP_NEAR_LIMIT
-from econet_ros.engine import TrialMeasures, run_trials
+from econet_ros.trials import TrialMeasures, run_trials
 from econet_ros.world import World, sample_setups
 
 CONFIG = Config()

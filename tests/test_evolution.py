@@ -4,11 +4,9 @@ import pytest
 
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.engine import TrialMeasures
-from econet_ros.evolution import (Evaluator, GenerationResult, evolve, next_generation,
-                                  select_parents)
-from econet_ros.experiment import replay, run_condition
-from econet_ros.results import RunData
+from econet_ros.trials import TrialMeasures
+from econet_ros.evolution import Evaluator, GenerationResult, next_generation, select_parents
+from econet_ros.runs import RunData, evolve_into, replay, run_condition
 
 
 def small_config(**changes):
@@ -70,16 +68,17 @@ def test_offspring_are_five_copies_of_each_of_the_best_twenty():
     assert set(parents) == set(np.argsort(-fitness)[:20])
 
 
-def collect(config, seed, run):
+def collect(config, seed, run, folder):
     rows = []
-    evolve(config, seed, run, on_generation=lambda result, offspring: rows.append(
+    evolve_into(folder, config, seed, run, on_generation=lambda result, offspring: rows.append(
         (result.fitness.copy(), offspring.copy())))
     return rows
 
 
-def test_a_run_is_determined_by_its_seed():
+def test_a_run_is_determined_by_its_seed(tmp_path):
     config = small_config()
-    first, again, other = collect(config, 7, 1), collect(config, 7, 1), collect(config, 8, 1)
+    first, again, other = (collect(config, seed, 1, tmp_path / name)
+                           for seed, name in ((7, "a"), (7, "b"), (8, "c")))
     for (f1, g1), (f2, g2) in zip(first, again):
         np.testing.assert_array_equal(f1, f2)
         np.testing.assert_array_equal(g1, g2)
@@ -133,12 +132,12 @@ def test_replay_reproduces_the_stored_fitness(tmp_path):
     assert result.trace.motor.shape == (40, 100, 5)
 
 
-def test_normal_condition_clearly_beats_random_movement():
+def test_normal_condition_clearly_beats_random_movement(tmp_path):
     def late_top_fitness(condition):
         config = Config().replace(**{"evolution.condition": condition,
                                      "evolution.generations": 30})
         late = []
-        evolve(config, 1, 1, on_generation=lambda r, o: late.append(
+        evolve_into(tmp_path / condition, config, 1, 1, on_generation=lambda r, o: late.append(
             r.fitness[r.parents].mean()) if r.generation >= 20 else None)
         return np.mean(late)
 

@@ -21,8 +21,9 @@ from econet_msgs.msg import (EvolutionProgress, MuscleCommand, Proprioception, R
 from econet_msgs.srv import ResetTrials, SetWeights  # noqa: E402
 from econet_ros.config import Config  # noqa: E402
 from econet_ros.evolution import Evaluator, initial_genomes  # noqa: E402
-from econet_ros.experiment import run_condition  # noqa: E402
-from econet_ros.nodes import common  # noqa: E402
+from econet_ros.runs import run_condition  # noqa: E402
+from econet_ros.nodes import graph as common  # noqa: E402
+from econet_ros.nodes.runner import make_executor  # noqa: E402
 from econet_ros.nodes.supervisor_node import SupervisorNode  # noqa: E402
 from econet_ros.world import TrialSetup, World  # noqa: E402
 
@@ -48,7 +49,7 @@ def procs(tmp_path_factory):
 @pytest.fixture(scope="module")
 def ros():
     rclpy.init()
-    executor = common.make_executor()
+    executor = make_executor()
     yield executor
     rclpy.try_shutdown()
 
@@ -102,7 +103,7 @@ def test_reset_service_replies_and_errors(graph, ros):
         (ResetTrials.Request(n_envs=2, cycles=5, body_deg=common.f64([0.0, 1.0, 2.0])),
          "body_deg has 3 values, expected 2"),
         (ResetTrials.Request(n_envs=1, cycles=5, shoulder_deg=common.f64([190.0])),
-         "shoulder_deg must lie within 0-180"),
+         "shoulder angles must lie within 0-180"),
         (ResetTrials.Request(n_envs=1, cycles=5, elbow_deg=common.f64([np.nan])),
          "NaN"),
     ]
@@ -162,7 +163,7 @@ def test_weight_service_errors_keep_old_weights(graph, ros):
     world = World(n, config.model)
     from econet_ros.world import sample_setups
     obs = world.reset(sample_setups(np.random.default_rng(9), n, config.model))
-    from econet_ros.controllers import make_controller
+    from econet_ros.plugins import make_controller
     controller = make_controller("normal", n, config)
     controller.load(good)
     expected = controller.act(obs)
@@ -232,14 +233,14 @@ def equivalence(procs, ros, namespace, condition, generation=1):
     sup = SupervisorNode(namespace=namespace, parameter_overrides=[
         Parameter(k, value=v) for k, v in {**SMALL, "condition": condition,
                                           "out": "/tmp/unused-econet-graph-test"}.items()])
-    sup.executor_ = ros
+    sup.evaluator.executor = ros
     ros.add_node(sup)
-    sup._wait_for_graph()
+    sup.evaluator.wait_for_graph()
     evaluator = Evaluator(config)
     genomes = initial_genomes(config, evaluator.n_weights, 3, 1)
-    graph_result = sup.test_generation(genomes, 3, 1, generation)
+    graph_result = sup.evaluator.test_generation(genomes, 3, 1, generation)
     expected = evaluator.test_generation(genomes, 3, 1, generation)
-    return graph_result, expected, sup
+    return graph_result, expected, sup.evaluator
 
 
 @pytest.mark.parametrize("condition", ["normal", "three-layer", "random"])
@@ -300,7 +301,7 @@ def test_evolution_through_graph_writes_the_in_process_result_folder(graph, proc
                                                                         tmp_path):
     progress = []
     graph.create_subscription(EvolutionProgress, "progress", progress.append,
-                              common.PROGRESS_QOS)
+                              common.QOS["progress"])
     # Three small generations take a second or two; under load this test's node may discover
     # the supervisor only later, so the supervisor lingers long enough for its progress history
     # (transient local) to reach a late monitor.

@@ -11,7 +11,7 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.config import Config
-from econet_ros.engine import run_trials
+from econet_ros.trials import run_trials
 from econet_ros.plugins import BUILTIN, GROUP
 from econet_ros.world import World, sample_setups
 
@@ -36,7 +36,7 @@ def test_reacher_reaches_the_object_in_most_trials():
     config = Config()
     n = 60
     world = World(n, config.model)
-    from econet_ros.controllers import make_controller
+    from econet_ros.plugins import make_controller
     measures, _ = run_trials(world, make_controller("reacher", n, config),
                              sample_setups(np.random.default_rng(11), n, config.model), 100)
     assert measures.success.mean() >= 0.75, measures.success.mean()
@@ -93,7 +93,7 @@ def test_outside_package_controller_through_the_node(ros):
     rclpy, executor, procs = ros
     from econet_msgs.msg import MuscleCommand
     from econet_msgs.srv import ResetTrials, SetWeights
-    from econet_ros.nodes import common
+    from econet_ros.nodes import graph as common
     sys.path.insert(0, str(PLUGIN_DIR))
     try:
         from econet_plugin_example import LinearController
@@ -143,8 +143,8 @@ def test_reacher_through_the_graph_and_bad_name_at_the_node(ros):
     rclpy, executor, procs = ros
     from econet_msgs.msg import Touch
     from econet_msgs.srv import ResetTrials, SetWeights
-    from econet_ros.engine import TrialMeasures
-    from econet_ros.nodes import common
+    from econet_ros.trials import TrialMeasures
+    from econet_ros.nodes import graph as common
 
     bad, bad_log = procs.start("controller", "/badname", "controller:=no-such-thing")
     assert bad.wait(60) == 2
@@ -173,7 +173,7 @@ def test_reacher_through_the_graph_and_bad_name_at_the_node(ros):
     graph = TrialMeasures.from_contact(contact)
     assert graph.success.mean() >= 0.75
     config = Config()
-    from econet_ros.controllers import make_controller
+    from econet_ros.plugins import make_controller
     local, _ = run_trials(World(n, config.model), make_controller("reacher", n, config),
                           sample_setups(np.random.default_rng(21), n, config.model), cycles)
     np.testing.assert_array_equal(graph.fitness, local.fitness)

@@ -3,9 +3,9 @@ import numpy as np
 from PIL import Image
 
 from econet_ros.config import Config
-from econet_ros.controllers import make_controller
-from econet_ros.engine import run_trials
-from econet_ros.render import TrialFrames, animate, filmstrip
+from econet_ros.plugins import make_controller
+from econet_ros.trials import run_trials
+from econet_ros.recording.render import TrialFrames, animate, filmstrip
 from econet_ros.world import World, sample_setups
 
 

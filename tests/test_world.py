@@ -13,9 +13,12 @@ FAR_BEHIND = (-40.0, 0.0)   # an object behind the eye when the body axis points
 
 
 def world_at(body, shoulder, elbow, obj=FAR_BEHIND):
+    """A world in the given state, set directly: geometry tests put the object anywhere, also
+    outside the trial annulus that World.reset enforces."""
     world = World(1, MODEL)
-    world.reset(TrialSetup(np.array([obj], float), np.array([body], float),
-                           np.array([shoulder], float), np.array([elbow], float)))
+    world.body[:], world.shoulder[:], world.elbow[:] = body, shoulder, elbow
+    world.object_xy[:] = obj
+    world.refresh()
     return world
 
 
@@ -236,13 +239,31 @@ def test_kernel_cache_folder_follows_every_module_with_kernels(tmp_path):
 
     import econet_ros
     package = Path(econet_ros.__file__).parent
-    for name in econet_ros._KERNEL_MODULES:
+    for name in econet_ros.KERNEL_MODULES:
         shutil.copy(package / name, tmp_path / name)
     before = econet_ros._kernel_cache_dir(tmp_path)
     assert before == econet_ros._kernel_cache_dir(tmp_path)
     seen = {before}
-    for name in econet_ros._KERNEL_MODULES:
+    for name in econet_ros.KERNEL_MODULES:
         with open(tmp_path / name, "a") as source:
             source.write("\n# edited\n")
         seen.add(econet_ros._kernel_cache_dir(tmp_path))
-    assert len(seen) == 1 + len(econet_ros._KERNEL_MODULES)
+    assert len(seen) == 1 + len(econet_ros.KERNEL_MODULES)
+
+
+@pytest.mark.parametrize("change, fragment", [
+    ({"shoulder": np.array([181.0])}, "shoulder angles must lie within 0-180 degrees"),
+    ({"elbow": np.array([-0.5])}, "elbow angles must lie within 0-180 degrees"),
+    ({"object_xy": np.array([[60.0, 0.0]])}, "object at distance 60.00 is out of reach"),
+    ({"body": np.array([np.nan])}, "body contains NaN or infinite values"),
+    ({"object_xy": np.zeros((2, 2))}, "object_xy has shape (2, 2), expected (1, 2)"),
+])
+def test_reset_refuses_what_it_cannot_run_instead_of_clipping(change, fragment):
+    from econet_ros.errors import SetupError
+    setup = TrialSetup(np.array([[30.0, 0.0]]), np.array([0.0]), np.array([90.0]),
+                       np.array([90.0]))
+    World(1, MODEL).reset(setup)                     # the unchanged setup is fine
+    for name, value in change.items():
+        setattr(setup, name, value)
+    with pytest.raises(SetupError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
+        World(1, MODEL).reset(setup)

@@ -13,76 +13,72 @@ import sys
 import numpy as np
 from rclpy.node import Node
 
-from econet_msgs.msg import MuscleCommand
-from econet_msgs.srv import SetWeights
-
-from ..plugins import PluginError, resolve
+from ..errors import ConfigError, PluginError
+from ..plugins import resolve
+from ..topics import COMMAND, SENSORS, observation_from_fields
 from ..world import World
-from . import common
-from .common import NodeError
+from . import graph
+from .runner import declare, node_config, run_node
 
-CODECS = common.CODECS
-COMMAND = CODECS["muscle_command"]
 MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sensor messages
 
 
 class ControllerNode(Node):
     def __init__(self):
         super().__init__("controller")
-        chosen = common.declare(self, "controller", "",
-                                "controller: a registered name (normal, three-layer, random, "
-                                "reacher, or a plug-in's entry point) or module:Class; empty = "
-                                "the network parameter")
-        network = common.declare(self, "network", "normal",
-                                 "older name of the controller parameter (used when controller "
-                                 "is empty)")
+        chosen = declare(self, "controller", "",
+                         "controller: a registered name (normal, three-layer, random, "
+                         "reacher, or a plug-in's entry point) or module:Class; empty = "
+                         "the network parameter")
+        network = declare(self, "network", "normal",
+                          "older name of the controller parameter (used when controller "
+                          "is empty)")
         self.network = chosen or network
-        config_path = common.declare(self, "config", "",
-                                     "JSON config file (as econet --config); its model and "
-                                     "network sections size the network; empty = defaults")
-        n_envs = common.declare(self, "n_envs", 1,
-                                "environments at start-up (set_weights may change it)")
-        self.config = common.node_config(config_path)
-        self.max_abs = common.declare(self, "max_abs_weight",
-                                      float(self.config.evolution.weight_range),
-                                      "set_weights refuses weights beyond +-this value")
+        config_path = declare(self, "config", "",
+                              "JSON config file (as econet --config); its model and "
+                              "network sections size the network; empty = defaults")
+        n_envs = declare(self, "n_envs", 1,
+                         "environments at start-up (set_weights may change it)")
+        self.config = node_config(config_path)
+        self.max_abs = declare(self, "max_abs_weight",
+                               float(self.config.evolution.weight_range),
+                               "set_weights refuses weights beyond +-this value")
         if n_envs < 1:
-            raise NodeError(f"n_envs must be at least 1, got {n_envs}")
+            raise ConfigError(f"n_envs must be at least 1, got {n_envs}")
         try:
             self.cls = resolve(self.network)
             self.controller = self.cls(n_envs, self.config)
             # compile (or load) the network's kernel now, not in the first timed cycle, for
             # sensors as they arrive (read-only arrays)
-            sensors = common.encode_sensors(World(1, self.config.model).observe(), 0, False)
-            self.cls(1, self.config).act(common.decode_observation(
-                {part: CODECS[part].decode(data) for part, data in sensors.items()}))
-        except PluginError as error:
-            raise NodeError(str(error)) from None
+            sensors = graph.encode_sensors(World(1, self.config.model).observe(), 0, False)
+            self.cls(1, self.config).act(observation_from_fields(
+                {part: graph.CODECS[part].decode(data) for part, data in sensors.items()}))
+        except PluginError:
+            raise
         except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
-            raise NodeError(f"controller '{self.network}' failed to start: "
-                            f"{type(error).__name__}: {error}") from None
+            raise ConfigError(f"controller '{self.network}' failed to start: "
+                              f"{type(error).__name__}: {error}") from None
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
 
-        qos = common.LOCKSTEP_QOS
-        self.pub = self.create_publisher(MuscleCommand, common.MUSCLE_COMMAND, qos)
-        for part, (msg_type, topic) in common.SENSOR_TOPICS.items():
-            self.create_subscription(msg_type, topic,
-                                     lambda data, part=part: self._on_part(part, data), qos,
-                                     raw=True)
-        self.create_service(SetWeights, common.SET_WEIGHTS, self._on_set_weights)
+        self.pub = graph.publisher(self, COMMAND)
+        for part in SENSORS:
+            graph.subscription(self, part, lambda data, part=part: self._on_part(part, data),
+                               raw=True)
+        self.create_service(graph.service_class("set_weights"), "set_weights",
+                            self._on_set_weights)
         self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")
 
     # -- weights ------------------------------------------------------------------------------
-    def _on_set_weights(self, request: SetWeights.Request, response: SetWeights.Response):
+    def _on_set_weights(self, request, response):
         problem = self._check(request)
         if problem:
             response.success, response.message = False, problem
             self.get_logger().error(f"set_weights refused: {problem}")
             return response
         n, k = int(request.n_envs), int(request.weights_per_network)
-        weights = common.as_f64(request.weights).reshape(-1, k) if k else None
+        weights = graph.as_f64(request.weights).reshape(-1, k) if k else None
         controller = self.controller
         if controller.n_envs != n:
             controller = self.cls(n, self.config)
@@ -96,7 +92,7 @@ class ControllerNode(Node):
         response.message = f"loaded weights for {n} environment(s) x {k}"
         return response
 
-    def _check(self, request: SetWeights.Request) -> str | None:
+    def _check(self, request) -> str | None:
         """Why a weight swap cannot be applied (None if it can); nothing is changed here."""
         if request.network and request.network != self.network:
             return (f"this controller runs the '{self.network}' network, the request expects "
@@ -114,7 +110,7 @@ class ControllerNode(Node):
         if left or not networks or request.n_envs % networks:
             return (f"got {len(request.weights)} weights: expected n_networks x "
                     f"{expected} with n_networks dividing n_envs = {request.n_envs}")
-        weights = common.as_f64(request.weights)
+        weights = graph.as_f64(request.weights)
         if not np.all(np.isfinite(weights)):
             return "weights contain NaN or infinite values"
         if np.any(np.abs(weights) > self.max_abs):
@@ -126,7 +122,7 @@ class ControllerNode(Node):
     def _on_part(self, part: str, data: bytes) -> None:
         """A serialized sensor message (see wire); the command goes out once a cycle's three
         messages are in."""
-        msg = common.decode(self, part, data)
+        msg = graph.decode(self, part, data)
         if msg is None:
             return
         key = (msg["trial"], msg["cycle"])
@@ -136,7 +132,7 @@ class ControllerNode(Node):
                 self.pending.pop(next(iter(self.pending)))
             parts = self.pending[key] = {}
         parts[part] = msg
-        if len(parts) == len(common.SENSORS):
+        if len(parts) == len(SENSORS):
             # Everything received before this cycle is stale or incomplete for good.
             for old in list(self.pending):
                 del self.pending[old]
@@ -156,7 +152,7 @@ class ControllerNode(Node):
                 throttle_duration_sec=5.0)
             return
         try:
-            obs = common.decode_observation(parts)
+            obs = observation_from_fields(parts)
         except ValueError:
             self.get_logger().error(
                 f"ignored trial {retina['trial']} cycle {retina['cycle']}: sensor arrays do not "
@@ -165,12 +161,11 @@ class ControllerNode(Node):
                 f"{len(parts['touch']['contact'])} touch values)", throttle_duration_sec=5.0)
             return
         motor = self.controller.act(obs)
-        self.pub.publish(COMMAND.encode(trial=retina["trial"], cycle=retina["cycle"], n_envs=n,
-                                        activation=motor))
+        self.pub.publish(graph.encode_command(retina["trial"], retina["cycle"], motor))
 
 
 def main(args: list[str] | None = None) -> int:
-    return common.run_node("controller_node", ControllerNode, args)
+    return run_node("controller_node", ControllerNode, args)
 
 
 if __name__ == "__main__":

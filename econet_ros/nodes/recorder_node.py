@@ -16,32 +16,31 @@ from pathlib import Path
 import rclpy
 from rclpy.node import Node
 
-from ..bags import BagError
-from . import common
-from .common import NodeError
-from .recording import ALL_TOPICS, TopicRecorder
+from ..errors import BagError, ConfigError
+from .runner import declare, run_node
+from .topic_recorder import ALL_TOPICS, TopicRecorder
 
 
 class RecorderNode(Node):
     def __init__(self):
         super().__init__("recorder")
-        out = common.declare(self, "out", "",
-                             "bag folder to create (must not exist); empty = "
-                             "bags/econet-YYYYmmdd-HHMMSS")
-        topics = common.declare(self, "topics", ",".join(ALL_TOPICS),
-                                "comma-separated topics to record (relative names)")
+        out = declare(self, "out", "",
+                      "bag folder to create (must not exist); empty = "
+                      "bags/econet-YYYYmmdd-HHMMSS")
+        topics = declare(self, "topics", ",".join(ALL_TOPICS),
+                         "comma-separated topics to record (relative names)")
         self.out = Path(out or time.strftime("bags/econet-%Y%m%d-%H%M%S"))
         if self.out.exists():
-            raise NodeError(f"bag {self.out} exists already (a bag is a new folder)")
+            raise ConfigError(f"bag {self.out} exists already (a bag is a new folder)")
         names = [t.strip() for t in topics.split(",") if t.strip()]
         if not names:
-            raise NodeError("topics is empty")
+            raise ConfigError("topics is empty")
         self.recorder = TopicRecorder(self, names)
         try:
             self.out.parent.mkdir(parents=True, exist_ok=True)
             self.recorder.start(self.out, {"econet.source": "recorder_node"})
-        except (BagError, OSError) as error:
-            raise NodeError(str(error)) from None
+        except OSError as error:
+            raise BagError(f"cannot create bag {self.out}: {error.strerror or error}") from None
         self.get_logger().info(f"recording {', '.join(names)} to {self.out}")
 
 
@@ -63,7 +62,7 @@ def main(args: list[str] | None = None) -> int:
         return node_holder["node"]
 
     try:
-        return common.run_node("recorder_node", make, args, body=_body)
+        return run_node("recorder_node", make, args, body=_body)
     finally:
         node = node_holder.get("node")
         if node is not None:

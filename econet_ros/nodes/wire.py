@@ -18,6 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import WireError
+
 HEADER = b"\x00\x01\x00\x00"      # encapsulation: plain CDR, little endian
 
 _NUMBERS = {
@@ -28,10 +30,6 @@ _NUMBERS = {
 }
 _LENGTH = struct.Struct("<I")
 _ZEROS = bytes(8)                  # alignment padding: at most 7 bytes
-
-
-class WireError(ValueError):
-    """Bytes that are not a message of the expected type."""
 
 
 class Codec:

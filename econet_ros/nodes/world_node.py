@@ -20,15 +20,13 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from visualization_msgs.msg import Marker, MarkerArray
 
-from econet_msgs.msg import MuscleCommand, TrialStart
-from econet_msgs.srv import ResetTrials
+from econet_msgs.msg import TrialStart
 
-from ..bags import model_json
-from ..world import N_MOTOR, Observation, TrialSetup, World, reach_error, sample_setups
-from . import common
-from .common import NodeError
-
-COMMAND = common.CODECS["muscle_command"]
+from ..errors import ConfigError, SetupError
+from ..topics import COMMAND, SENSORS, trial_start_fields
+from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
+from . import graph
+from .runner import declare, node_config, run_node
 
 MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
@@ -37,59 +35,54 @@ NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
 class WorldNode(Node):
     def __init__(self):
         super().__init__("world")
-        n_envs = common.declare(self, "n_envs", 1,
-                                "environments at start-up (a reset may change it)")
-        config_path = common.declare(self, "config", "",
-                                     "JSON config file (as econet --config); only its model "
-                                     "section is used; empty = the paper's defaults")
-        self.mode = common.declare(self, "mode", "lockstep",
-                                   "lockstep: advance one cycle per matching muscle command; "
-                                   "free: advance at rate_hz with the newest command")
-        rate = common.declare(self, "rate_hz", 10.0, "cycles per second in free mode")
-        self.free_cycles = common.declare(self, "trial_cycles", 100,
-                                          "free mode: start a new random trial after this many "
-                                          "cycles (0 = never)")
-        self.seed = common.declare(self, "seed", 0,
-                                   "seed of the trials free mode draws (trial k uses seed + k)")
-        self.display_env = common.declare(self, "display_env", 0,
-                                          "environment shown on joint_states and markers")
-        display_rate = common.declare(self, "display_rate_hz", 20.0,
-                                      "most joint_states/markers pictures per second "
-                                      "(0 = every cycle, costly in lockstep)")
-        self.frame_id = common.declare(self, "frame_id", "econet",
-                                       "frame of the markers (agent at the origin, units = "
-                                       "workspace units)")
+        n_envs = declare(self, "n_envs", 1,
+                         "environments at start-up (a reset may change it)")
+        config_path = declare(self, "config", "",
+                              "JSON config file (as econet --config); only its model "
+                              "section is used; empty = the paper's defaults")
+        self.mode = declare(self, "mode", "lockstep",
+                            "lockstep: advance one cycle per matching muscle command; "
+                            "free: advance at rate_hz with the newest command")
+        rate = declare(self, "rate_hz", 10.0, "cycles per second in free mode")
+        self.free_cycles = declare(self, "trial_cycles", 100,
+                                   "free mode: start a new random trial after this many "
+                                   "cycles (0 = never)")
+        self.seed = declare(self, "seed", 0,
+                            "seed of the trials free mode draws (trial k uses seed + k)")
+        self.display_env = declare(self, "display_env", 0,
+                                   "environment shown on joint_states and markers")
+        display_rate = declare(self, "display_rate_hz", 20.0,
+                               "most joint_states/markers pictures per second "
+                               "(0 = every cycle, costly in lockstep)")
+        self.frame_id = declare(self, "frame_id", "econet",
+                                "frame of the markers (agent at the origin, units = "
+                                "workspace units)")
         if self.mode not in MODES:
-            raise NodeError(f"mode must be one of {', '.join(MODES)}, got '{self.mode}'")
+            raise ConfigError(f"mode must be one of {', '.join(MODES)}, got '{self.mode}'")
         if n_envs < 1:
-            raise NodeError(f"n_envs must be at least 1, got {n_envs}")
+            raise ConfigError(f"n_envs must be at least 1, got {n_envs}")
         if rate <= 0:
-            raise NodeError(f"rate_hz must be positive, got {rate}")
-        self.model = common.node_config(config_path).model
+            raise ConfigError(f"rate_hz must be positive, got {rate}")
+        self.model = node_config(config_path).model
         self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
         self._last_display = -math.inf
 
         # Compile (or load) the kernels now, for commands as they arrive: read-only arrays.
-        World(1, self.model).step(self._motor(COMMAND.decode(COMMAND.encode(
-            n_envs=1, activation=NEUTRAL)), n_envs=1))
+        codec = graph.CODECS[COMMAND]
+        World(1, self.model).step(self._motor(codec.decode(graph.encode_command(
+            0, 0, NEUTRAL[None, :])), n_envs=1))
         self.world = World(n_envs, self.model)
         self.trial = 0
         self.limit = 0          # trial length; 0 = unlimited
         self.started = False    # lockstep: no trial until the first reset
         self.latest = None      # free mode: newest command
 
-        qos = common.LOCKSTEP_QOS
-        self.sensor_pubs = {part: self.create_publisher(msg_type, topic, qos)
-                            for part, (msg_type, topic) in common.SENSOR_TOPICS.items()}
-        self.pub_start = self.create_publisher(TrialStart, common.TRIAL_START,
-                                               common.TRIAL_START_QOS)
-        self.model_json = model_json(self.model)
-        self.pub_joints = self.create_publisher(JointState, common.JOINT_STATES,
-                                                common.DISPLAY_QOS)
-        self.pub_markers = self.create_publisher(MarkerArray, common.MARKERS, common.DISPLAY_QOS)
-        self.create_subscription(MuscleCommand, common.MUSCLE_COMMAND, self._on_command, qos,
-                                 raw=True)
-        self.create_service(ResetTrials, common.RESET_TRIALS, self._on_reset)
+        self.sensor_pubs = {part: graph.publisher(self, part) for part in SENSORS}
+        self.pub_start = graph.publisher(self, "trial_start")
+        self.pub_joints = graph.publisher(self, "joint_states")
+        self.pub_markers = graph.publisher(self, "markers")
+        graph.subscription(self, COMMAND, self._on_command, raw=True)
+        self.create_service(graph.service_class("reset_trials"), "reset_trials", self._on_reset)
 
         if self.mode == "free":
             self._new_free_trial()
@@ -104,23 +97,18 @@ class WorldNode(Node):
         self.trial += 1
         self.limit = cycles
         self.started = True
-        w = self.world
-        self.pub_start.publish(TrialStart(
-            trial=self.trial, cycles=max(int(cycles), 0), n_envs=w.n_envs,
-            lockstep=self.mode == "lockstep",
-            object_xy=common.f64(w.object_xy), body_deg=common.f64(w.body),
-            shoulder_deg=common.f64(w.shoulder), elbow_deg=common.f64(w.elbow),
-            model_json=self.model_json))
+        self.pub_start.publish(TrialStart(**graph.typed(trial_start_fields(
+            self.trial, cycles, self.mode == "lockstep", setup, self.model))))
         self._publish(self.world.observe())
 
     def _new_free_trial(self) -> None:
         rng = np.random.default_rng(self.seed + self.trial + 1)
         self._start(sample_setups(rng, self.world.n_envs, self.model), self.free_cycles)
 
-    def _on_reset(self, request: ResetTrials.Request, response: ResetTrials.Response):
+    def _on_reset(self, request, response):
         try:
             setup = self._setup_from(request)
-        except ValueError as error:
+        except SetupError as error:
             response.success = False
             response.message = str(error)
             self.get_logger().error(f"reset refused: {error}")
@@ -132,40 +120,32 @@ class WorldNode(Node):
         response.n_envs = self.world.n_envs
         return response
 
-    def _setup_from(self, request: ResetTrials.Request) -> TrialSetup:
-        """The trial starts a request describes; ValueError (one line) if it cannot work."""
+    def _setup_from(self, request) -> TrialSetup:
+        """The trial starts a request describes (SetupError, one line, if they cannot work):
+        each array given in full, or left empty to be drawn from the request's seed."""
         n = int(request.n_envs) or self.world.n_envs
         drawn = sample_setups(np.random.default_rng(request.seed), n, self.model)
         parts = {}
         for name, width in (("object_xy", 2), ("body_deg", 1), ("shoulder_deg", 1),
                             ("elbow_deg", 1)):
-            values = common.as_f64(getattr(request, name))
+            values = graph.as_f64(getattr(request, name))
             if len(values) == 0:
                 continue
             if len(values) != n * width:
-                raise ValueError(f"{name} has {len(values)} values, expected {n * width} "
+                raise SetupError(f"{name} has {len(values)} values, expected {n * width} "
                                  f"({n} environment(s) x {width}) or none")
-            if not np.all(np.isfinite(values)):
-                raise ValueError(f"{name} contains NaN or infinite values")
             parts[name] = values.reshape(n, 2) if width == 2 else values.copy()
-        if "object_xy" in parts:
-            problem = reach_error(parts["object_xy"], self.model)
-            if problem:
-                raise ValueError(problem)
-        for joint in ("shoulder_deg", "elbow_deg"):
-            if joint in parts and (parts[joint].min() < 0
-                                   or parts[joint].max() > self.model.joint_max_deg):
-                raise ValueError(f"{joint} must lie within 0-{self.model.joint_max_deg:g} "
-                                 "degrees")
-        return TrialSetup(parts.get("object_xy", drawn.object_xy),
-                          parts.get("body_deg", drawn.body),
-                          parts.get("shoulder_deg", drawn.shoulder),
-                          parts.get("elbow_deg", drawn.elbow))
+        setup = TrialSetup(parts.get("object_xy", drawn.object_xy),
+                           parts.get("body_deg", drawn.body),
+                           parts.get("shoulder_deg", drawn.shoulder),
+                           parts.get("elbow_deg", drawn.elbow))
+        check_setup(setup, self.model)
+        return setup
 
     # -- commands ---------------------------------------------------------------------------
     def _on_command(self, data: bytes) -> None:
         """A serialized MuscleCommand (see wire: read in place, no message object)."""
-        msg = common.decode(self, "muscle_command", data)
+        msg = graph.decode(self, COMMAND, data)
         if msg is None:
             return
         if self.mode == "free":
@@ -218,7 +198,7 @@ class WorldNode(Node):
     def _publish(self, obs: Observation) -> None:
         """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
         final = bool(self.limit and obs.cycle >= self.limit)
-        for part, data in common.encode_sensors(obs, self.trial, final).items():
+        for part, data in graph.encode_sensors(obs, self.trial, final).items():
             self.sensor_pubs[part].publish(data)
         now = time.monotonic()
         if now - self._last_display >= self.display_period or final:
@@ -274,7 +254,7 @@ class WorldNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return common.run_node("world_node", WorldNode, args)
+    return run_node("world_node", WorldNode, args)
 
 
 if __name__ == "__main__":

@@ -3,15 +3,15 @@ per-generation behaviour statistics, optional sensitivity variants, then the rep
 
 Folder layout (OUT = --out):
     OUT/study.json                    format tag, base config, runs, seed, variants
-    OUT/<condition>/run-NN/           a run folder (results.py) plus behaviour.csv: one row per
-                                      finished generation (analysis.BEHAVIOUR_COLUMNS)
+    OUT/<condition>/run-NN/           a run folder (econet_ros.runs) plus behaviour.csv: one row
+                                      per finished generation (measures.BEHAVIOUR_COLUMNS)
     OUT/sensitivity/<variant>/<condition>/run-NN/   the same for each sensitivity variant
     OUT/report.md, OUT/figures/*.png  written by the analysis step
 
-Every run is resumable: run folders resume from metrics.csv (results.RunStore); behaviour.csv is
+Every run is resumable: run folders resume from metrics.csv (runs.evolve_into); behaviour.csv is
 cut back to the rows metrics.csv confirms and any missing generations are re-made by replaying
-the stored genomes with the same trials (experiment.replay), so an interrupted study finishes
-with the same numbers as an uninterrupted one.
+the stored genomes with the same trials (runs.replay), so an interrupted study finishes with the
+same numbers as an uninterrupted one.
 """
 from __future__ import annotations
 
@@ -25,7 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .config import CONDITIONS, Config, ConfigError
+from ..config import CONDITIONS, Config, ConfigError
+from ..errors import ResultsError
+from ..evolution import Evaluator
+from ..runs import RunData, evolve_into, finished_generations, replay, run_folder
+from .measures import BEHAVIOUR_COLUMNS, behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
 BEHAVIOUR_FILE = "behaviour.csv"
@@ -38,10 +42,6 @@ SENSITIVITY = {
                       "network.intermodal_hidden": 16},
     "object-radius-4": {"model.object_radius": 4.0},
 }
-
-
-class StudyError(Exception):
-    """A results folder that cannot be analysed; the message names what is missing."""
 
 
 @dataclass
@@ -63,7 +63,7 @@ class StudySpec:
                            "variant_runs": self.variant_runs}, indent=2, sort_keys=True)
 
     def merged_with(self, stored: "StudySpec") -> "StudySpec":
-        """This spec plus the variants an existing folder already holds; ConfigError when the
+        """This spec plus the variants an existing folder already holds; ResultsError when the
         base settings differ (adding sensitivity variants to a study is allowed)."""
         same = (self.config == stored.config and self.runs == stored.runs
                 and self.seed == stored.seed)
@@ -72,7 +72,7 @@ class StudySpec:
         runs_clash = (self.variants and stored.variants and
                       self.runs_of("v") != stored.runs_of("v"))
         if not same or clash or runs_clash:
-            raise ConfigError("the results folder holds a study with different settings; "
+            raise ResultsError("the results folder holds a study with different settings; "
                               "choose another --out folder or pass --overwrite")
         variants = dict(stored.variants)
         variants.update(self.variants)
@@ -83,22 +83,22 @@ class StudySpec:
     def load(cls, out: Path) -> "StudySpec":
         path = Path(out) / "study.json"
         if not Path(out).is_dir():
-            raise StudyError(f"results folder {out} does not exist (make one with: econet study "
+            raise ResultsError(f"results folder {out} does not exist (make one with: econet study "
                              f"--out {out})")
         if not path.exists():
-            raise StudyError(f"{out} is not a study results folder: study.json is missing "
+            raise ResultsError(f"{out} is not a study results folder: study.json is missing "
                              "(make one with: econet study)")
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
         except json.JSONDecodeError as error:
-            raise StudyError(f"{path} is not valid JSON ({error})") from None
+            raise ResultsError(f"{path} is not valid JSON ({error})") from None
         if data.get("format") != STUDY_FORMAT:
-            raise StudyError(f"{path} has format {data.get('format')!r}; this version reads "
+            raise ResultsError(f"{path} has format {data.get('format')!r}; this version reads "
                              f"{STUDY_FORMAT!r} (re-run econet study into a new folder)")
         try:
             config = Config.from_dict(data["config"])
         except (ConfigError, KeyError, TypeError) as error:
-            raise StudyError(f"{path} holds an unreadable config: {error}") from None
+            raise ResultsError(f"{path} holds an unreadable config: {error}") from None
         return cls(config, int(data["runs"]), int(data["seed"]), dict(data.get("variants", {})),
                    data.get("variant_runs"))
 
@@ -120,8 +120,6 @@ def conditions_for(variant_changes: dict | None) -> tuple[str, ...]:
 
 def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path]]:
     """(config, seed, run, run folder) of every run of the study, longest first."""
-    from .experiment import run_folder
-
     tasks = []
     groups = [(Path(out), spec.config, None, spec.runs)]
     for name, changes in spec.variants.items():
@@ -141,33 +139,25 @@ def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
                        evaluator=None) -> int:
     """Evolve (or resume) one run into run_dir, writing behaviour.csv alongside metrics.csv.
     Returns the number of generations finished."""
-    from .analysis import BEHAVIOUR_COLUMNS, behaviour_row
-    from .evolution import Evaluator, evolve, initial_genomes
-    from .experiment import replay
-    from .results import RunStore
-
     evaluator = evaluator or Evaluator(config)
     trials = config.evolution.trials
-    store = RunStore(run_dir, config, seed, run, evaluator.n_weights)
-    start = store.open(lambda: initial_genomes(config, evaluator.n_weights, seed, run))
-    done = start[0]
     path = Path(run_dir) / BEHAVIOUR_FILE
-    rows = _read_rows(path, BEHAVIOUR_COLUMNS)[:done]
-    _write_rows(path, BEHAVIOUR_COLUMNS, rows)
-    for generation in range(len(rows), done):     # gap left by an interruption
-        result = replay(run_dir, generation, evaluator=evaluator)
-        _append_row(path, BEHAVIOUR_COLUMNS,
-                    behaviour_row(result.trace, generation, result.parents, trials))
 
-    def on_generation(result, offspring):
-        store.write(result, offspring)
+    def repair(done: int) -> None:
+        """Keep the rows metrics.csv confirms; replay the generations whose row is missing."""
+        rows = _read_rows(path, BEHAVIOUR_COLUMNS)[:done]
+        _write_rows(path, BEHAVIOUR_COLUMNS, rows)
+        for generation in range(len(rows), done):
+            result = replay(run_dir, generation, evaluator=evaluator)
+            _append_row(path, BEHAVIOUR_COLUMNS,
+                        behaviour_row(result.trace, generation, result.parents, trials))
+
+    def on_generation(result, offspring) -> None:
         _append_row(path, BEHAVIOUR_COLUMNS,
                     behaviour_row(result.trace, result.generation, result.parents, trials))
 
-    if done < config.evolution.generations:
-        evolve(config, seed, run, evaluator, start=start, on_generation=on_generation,
-               record=True)
-    return config.evolution.generations
+    return evolve_into(run_dir, config, seed, run, evaluator, on_generation, record=True,
+                       on_open=repair)
 
 
 def _read_rows(path: Path, columns: list[str]) -> list[dict]:
@@ -209,15 +199,6 @@ def _run_task(task) -> int:
     return run_with_behaviour(config, seed, run, run_dir)
 
 
-def _finished(run_dir: Path) -> int:
-    """Finished generations of a run folder (rows of metrics.csv), cheaply."""
-    try:
-        with open(Path(run_dir) / "metrics.csv", "rb") as handle:
-            return max(handle.read().count(b"\n") - 1, 0)
-    except OSError:
-        return 0
-
-
 def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) -> float:
     """Run (or resume) every run of the study (plus the variants an existing folder already
     holds); returns the wall time in seconds."""
@@ -232,10 +213,10 @@ def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) 
     tasks = study_tasks(spec, out)
     total = sum(t[0].evolution.generations for t in tasks)
     started = time.time()
-    with tqdm(total=total, initial=sum(_finished(t[3]) for t in tasks), unit="gen",
+    with tqdm(total=total, initial=sum(finished_generations(t[3]) for t in tasks), unit="gen",
               desc="study", disable=not progress, dynamic_ncols=True) as bar:
         def refresh():
-            bar.n = sum(_finished(t[3]) for t in tasks)
+            bar.n = sum(finished_generations(t[3]) for t in tasks)
             bar.refresh()
 
         if jobs <= 1:
@@ -297,9 +278,7 @@ class ConditionData:
 def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config,
                    runs: int | None = None) -> ConditionData:
     """Read one condition's run folders; gaps are listed in .problems, never hidden."""
-    from .analysis import BEHAVIOUR_COLUMNS
-    from .experiment import run_folder
-    from .results import METRIC_COLUMNS, RunData
+    from ..runs import METRIC_COLUMNS
 
     generations = config.evolution.generations
     folder = Path(folder)
@@ -317,17 +296,17 @@ def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config
             continue
         try:
             data = RunData(path)
-        except (ValueError, KeyError, OSError) as error:
-            raise StudyError(f"{path}: {error} (old or damaged run folder; re-run econet study "
+        except (ResultsError, ValueError, KeyError, OSError) as error:
+            raise ResultsError(f"{path}: {error} (old or damaged run folder; re-run econet study "
                              "into a new folder)") from None
         if data.config.evolution.condition != condition:
-            raise StudyError(f"{path} holds a {data.config.evolution.condition} run, expected "
+            raise ResultsError(f"{path} holds a {data.config.evolution.condition} run, expected "
                              f"{condition}")
         brows = _read_rows(path / BEHAVIOUR_FILE, BEHAVIOUR_COLUMNS)
         if (path / BEHAVIOUR_FILE).exists() and not brows and data.generations_done:
             header = (path / BEHAVIOUR_FILE).read_text(encoding="utf-8").split("\n", 1)[0]
             if header.split(",") != BEHAVIOUR_COLUMNS:
-                raise StudyError(f"{path / BEHAVIOUR_FILE} has columns from another version; "
+                raise ResultsError(f"{path / BEHAVIOUR_FILE} has columns from another version; "
                                  "re-run econet study on this folder to rebuild it")
         if not (path / BEHAVIOUR_FILE).exists():
             problems.append(f"{path.name}: behaviour.csv missing (re-run econet study to make it)")
@@ -358,7 +337,7 @@ def _stack(series: list[np.ndarray], generations: int) -> np.ndarray:
 
 def load_study(out: Path) -> tuple[StudySpec, dict[str, dict[str, ConditionData]]]:
     """{group: {condition: data}}; group "base" is the main study, others are variants.
-    Raises StudyError when nothing can be analysed."""
+    Raises ResultsError when nothing can be analysed."""
     out = Path(out)
     spec = StudySpec.load(out)
     groups: dict[str, dict[str, ConditionData]] = {}
@@ -371,6 +350,6 @@ def load_study(out: Path) -> tuple[StudySpec, dict[str, dict[str, ConditionData]
                                           spec.runs_of(name))
                         for c in conditions_for(changes)}
     if not any(d.n_runs and max(d.done) > 0 for d in groups["base"].values()):
-        raise StudyError(f"{out} holds no finished generation of any condition yet "
+        raise ResultsError(f"{out} holds no finished generation of any condition yet "
                          "(run econet study first)")
     return spec, groups

@@ -8,15 +8,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .analysis import ReachSummary, run_networks, sever_proprioception, summarize_reaches
-from .config import Config
+from .lesion import LESION_TRIALS, lesion_study
+from .measures import ReachSummary
 from .study import ConditionData, StudySpec, load_study
 
 COLORS = {"normal": "tab:blue", "three-layer": "tab:orange", "random": "tab:gray"}
 LOCK = 10.0            # a joint is locked / dominated when flexion% <= LOCK or >= 100 - LOCK
 CHANCE = 0.5
-LESION_TRIALS = 50     # fresh trials per selected econet in the lesion test
-_LESION_PURPOSE = 7    # random stream (evolution.rng_for) used for the lesion trials
 
 
 # -- small helpers --------------------------------------------------------------------------------
@@ -126,37 +124,6 @@ def joint_table(data: ConditionData, windows: Windows) -> list[dict]:
                      "elbow_flexion": ef[i], "elbow_angle": ea[i], "elbow_compliant": not elbow_dom
                      and np.isfinite(ef[i])})
     return rows
-
-
-# -- the lesion ---------------------------------------------------------------------------------------
-def lesion_study(data: ConditionData) -> list[dict]:
-    """Final top-20 econets of each normal run, intact vs proprioception severed, on fresh
-    trials (LESION_TRIALS per econet). Returns one dict per run."""
-    from . import genome
-    from .evolution import rng_for, select_parents
-    from .results import RunData
-    from .world import sample_setups
-
-    out = []
-    for path in data.run_dirs:
-        run = RunData(path)
-        g = run.generations_done - 1
-        if g < 0:
-            continue
-        config: Config = run.config
-        e = config.evolution
-        parents = select_parents(run.fitness()[g], e.parents)
-        weights = genome.decode(run.genomes(g)[parents], e.bits_per_weight, e.weight_range)
-        setup = sample_setups(rng_for(run.seed, run.run, e.generations, _LESION_PURPOSE),
-                              LESION_TRIALS, config.model)
-        traces = {"intact": run_networks(config, "normal", weights, setup, LESION_TRIALS),
-                  "lesioned": run_networks(config, "normal",
-                                           sever_proprioception(weights, config, "normal"),
-                                           setup, LESION_TRIALS)}
-        out.append({"run": path.name, "generation": g, "traces": traces,
-                    "radius": config.model.object_radius,
-                    **{k: summarize_reaches(t) for k, t in traces.items()}})
-    return out
 
 
 # -- claims -----------------------------------------------------------------------------------------------
@@ -519,12 +486,12 @@ def _smooth(curve: np.ndarray, k: int) -> np.ndarray:
 
 
 def _cycles(d: ConditionData) -> int:
-    from .results import RunData
+    from ..runs import RunData
     return RunData(d.run_dirs[0]).config.evolution.cycles
 
 
 def _trials(d: ConditionData) -> int:
-    from .results import RunData
+    from ..runs import RunData
     return RunData(d.run_dirs[0]).config.evolution.trials
 
 
@@ -669,7 +636,7 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
             ax.set_ylim(-55, 55)
             ax.set_title(f"{kind}: hand paths to first contact\n({first['run']}, best econet, "
                          "10 trials)", fontsize=9)
-            from .analysis import body_frame, reach_starts
+            from .measures import body_frame, reach_starts
             ax = axes[1, col]
             for item in lesion:
                 t = item["traces"][kind]
@@ -727,7 +694,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
         for cond, d in group.items():
             for p in d.problems:
                 notes.append(f"{'' if gname == 'base' else gname + ' / '}{cond}: {p}")
-    lesions = {name: lesion_study(group["normal"]) if "normal" in group else []
+    lesions = {name: lesion_study(group["normal"].run_dirs) if "normal" in group else []
                for name, group in groups.items()}
     claims = {}
     for name, group in groups.items():

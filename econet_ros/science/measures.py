@@ -1,5 +1,5 @@
-"""Behaviour measures behind the paper's Figures 4-9 and the proprioceptive lesion, computed from
-an engine ``Trace`` (ROS-free, NumPy only). Definitions: docs/analysis.md.
+"""Behaviour measures behind the paper's Figures 4-9 and the reach summaries of the lesion test,
+computed from a trials ``Trace`` (ROS-free, NumPy only). Definitions: docs/analysis.md.
 
 Conventions shared by every measure
     cycle t      motor row t, chosen from the state in trace row t and leading to row t + 1.
@@ -15,9 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .config import Config
-from .engine import Trace, run_trials
-from .world import N_PROPRIO, TrialSetup, World
+from ..trials import Trace
 
 SQRT2 = np.sqrt(2.0)
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
@@ -182,50 +180,7 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
     }
 
 
-# -- the lesion ---------------------------------------------------------------------------------
-def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:
-    """Bool mask over a network's flat weight vector: True for every weight leaving one of the
-    four proprioceptive input units (see controllers.py for the layout)."""
-    from .controllers import make_controller
-
-    vis, net = config.model.visual_units, config.network
-    n = make_controller(condition, 1, config).n_params
-    mask = np.zeros(n, dtype=bool)
-    if condition == "normal":
-        start = vis * net.visual_hidden     # the proprio -> proprioceptive-hidden layer
-        mask[start:start + N_PROPRIO * net.proprio_hidden] = True
-    elif condition == "three-layer":
-        n_in = vis + N_PROPRIO + 1
-        for k in range(net.three_layer_hidden):
-            mask[k * n_in + vis:k * n_in + vis + N_PROPRIO] = True
-    else:
-        raise ValueError(f"no proprioceptive weights in condition '{condition}'")
-    return mask
-
-
-def sever_proprioception(weights: np.ndarray, config: Config, condition: str) -> np.ndarray:
-    """Copy of (n, W) weights with the proprioceptive inputs' outgoing weights set to zero."""
-    out = np.array(weights, dtype=np.float64, copy=True)
-    out[:, proprioceptive_weight_mask(config, condition)] = 0.0
-    return out
-
-
-def run_networks(config: Config, condition: str, weights: np.ndarray, setup: TrialSetup,
-                 trials: int) -> Trace:
-    """Run each of the (k, W) networks on the same ``trials`` trial starts (setup has
-    ``trials`` entries); environment e = network * trials + trial."""
-    from .controllers import make_controller
-
-    k = weights.shape[0]
-    n = k * trials
-    world = World(n, config.model)
-    controller = make_controller(condition, n, config)
-    controller.load(np.repeat(weights, trials, axis=0), 0)
-    _, trace = run_trials(world, controller, setup.take(np.tile(np.arange(trials), k)),
-                          config.evolution.cycles, record=True)
-    return trace
-
-
+# -- reaches ----------------------------------------------------------------------------------
 def first_contact(trace: Trace) -> np.ndarray:
     """(n,) row of the first contact (1..C), or -1 for trials without contact."""
     touch = trace.touch

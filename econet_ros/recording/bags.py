@@ -23,40 +23,26 @@ without the interface package (``ros2 bag play`` needs econet_msgs installed).
 """
 from __future__ import annotations
 
-import dataclasses
-import json
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .config import ModelConfig
-from .engine import TrialMeasures
-from .world import N_MOTOR, N_PROPRIO, TrialSetup, World
+from ..config import ModelConfig, model_from_json
+from ..errors import BagError, ConfigError
+from ..topics import (COMMAND, DISPLAY, LOCKSTEP, RECORDED, TOPICS, command_fields,
+                      sensor_fields, trial_start_fields)
+from ..trials import TrialMeasures
+from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World
 
 ECONET_TYPES = ("TrialStart", "Retina", "Proprioception", "Touch", "MuscleCommand")
-# Relative topic name -> message type, in the order connections are added to a bag.
-TOPIC_TYPES = {
-    "trial_start": "econet_msgs/msg/TrialStart",
-    "retina": "econet_msgs/msg/Retina",
-    "proprioception": "econet_msgs/msg/Proprioception",
-    "touch": "econet_msgs/msg/Touch",
-    "muscle_command": "econet_msgs/msg/MuscleCommand",
-    "joint_states": "sensor_msgs/msg/JointState",
-    "markers": "visualization_msgs/msg/MarkerArray",
-}
-SENSORS = ("retina", "proprioception", "touch")
 BAG_VERSION = 9    # Jazzy/Kilted metadata.yaml (Humble cannot open it; see docs)
-
-
-class BagError(Exception):
-    """A bag that cannot be used; the message is one line naming the problem."""
 
 
 def msg_dir() -> Path:
     """The folder holding econet_msgs' .msg definitions (source tree, else the install)."""
-    here = Path(__file__).resolve().parents[1] / "econet_msgs" / "msg"
+    here = Path(__file__).resolve().parents[2] / "econet_msgs" / "msg"
     if here.is_dir():
         return here
     from ament_index_python.packages import get_package_share_directory   # installed layout
@@ -139,43 +125,31 @@ class TrialBagWriter:
     """Writes trials run in process (no ROS) as the graph would publish them."""
 
     def __init__(self, path: Path, custom: dict[str, str] | None = None, prefix: str = "/"):
-        lockstep = {k: v for k, v in TOPIC_TYPES.items() if k.split("_")[0] != "joint"
-                    and k != "markers"}
         self.prefix = prefix
-        self.bag = BagWriter(path, {prefix + k: v for k, v in lockstep.items()}, custom)
+        self.bag = BagWriter(path, {prefix + name: TOPICS[name].type for name in RECORDED
+                                    if name not in DISPLAY}, custom)
         self.store = typestore()
         self.trial = 0
         self.t_ns = 1_000_000_000
 
-    def _put(self, topic: str, msgtype: str, **fields) -> None:
+    def _put(self, topic: str, fields: dict) -> None:
+        msgtype = TOPICS[topic].type
         msg = self.store.types[msgtype](**fields)
         self.bag.write(self.prefix + topic, self.t_ns, self.store.serialize_cdr(msg, msgtype))
         self.t_ns += 1000
 
-    def start(self, world: World, cycles: int) -> int:
+    def start(self, setup: TrialSetup, model: ModelConfig, cycles: int) -> int:
         self.trial += 1
-        self._put("trial_start", "econet_msgs/msg/TrialStart", trial=self.trial, cycles=cycles,
-                  n_envs=world.n_envs, lockstep=True, object_xy=world.object_xy.ravel().copy(),
-                  body_deg=world.body.copy(), shoulder_deg=world.shoulder.copy(),
-                  elbow_deg=world.elbow.copy(), model_json=model_json(world.model))
+        self._put("trial_start", trial_start_fields(self.trial, cycles, True, setup, model))
         return self.trial
 
     def sensors(self, obs, cycles: int) -> None:
-        n = obs.vision.shape[0]
-        head = dict(trial=self.trial, cycle=obs.cycle, final=bool(cycles and obs.cycle >= cycles),
-                    n_envs=n)
-        self._put("touch", "econet_msgs/msg/Touch", **head,
-                  contact=(obs.touch > 0.5).astype(np.uint8))
-        self._put("proprioception", "econet_msgs/msg/Proprioception", **head,
-                  stretch=np.ascontiguousarray(obs.proprio, dtype=np.float64).ravel())
-        self._put("retina", "econet_msgs/msg/Retina", **head, units_per_env=obs.vision.shape[1],
-                  activation=np.ascontiguousarray(obs.vision, dtype=np.float64).ravel(),
-                  fixated=np.asarray(obs.fixated, dtype=np.uint8))
+        final = bool(cycles and obs.cycle >= cycles)
+        for topic, fields in sensor_fields(obs, self.trial, final).items():
+            self._put(topic, fields)
 
     def command(self, cycle: int, motor: np.ndarray) -> None:
-        self._put("muscle_command", "econet_msgs/msg/MuscleCommand", trial=self.trial,
-                  cycle=cycle, n_envs=motor.shape[0],
-                  activation=np.ascontiguousarray(motor, dtype=np.float64).ravel())
+        self._put(COMMAND, command_fields(self.trial, cycle, motor))
 
     def close(self) -> None:
         self.bag.close()
@@ -187,7 +161,7 @@ def record_trials(path: Path, world: World, controller, setup: TrialSetup, cycle
     writer = TrialBagWriter(path, custom)
     try:
         obs = world.reset(setup)
-        writer.start(world, cycles)
+        writer.start(setup, world.model, cycles)
         writer.sensors(obs, cycles)
         contact = np.zeros((cycles, world.n_envs), dtype=bool)
         for t in range(cycles):
@@ -199,10 +173,6 @@ def record_trials(path: Path, world: World, controller, setup: TrialSetup, cycle
     finally:
         writer.close()
     return TrialMeasures.from_contact(contact)
-
-
-def model_json(model: ModelConfig) -> str:
-    return json.dumps(dataclasses.asdict(model), sort_keys=True)
 
 
 # -- reading ----------------------------------------------------------------------------------
@@ -285,10 +255,9 @@ def read_bag(path: Path) -> Bag:
             topics = {c.topic: (c.msgtype, c.msgcount) for c in reader.connections}
             custom = _custom_data(reader)
             starts: dict[int, object] = {}
-            parts: dict[str, list] = {k: [] for k in ("retina", "proprioception", "touch",
-                                                      "muscle_command")}
-            wanted = [c for c in reader.connections if _short(c.topic) in TOPIC_TYPES
-                      and _short(c.topic) not in ("joint_states", "markers")]
+            parts: dict[str, list] = {k: [] for k in LOCKSTEP}
+            wanted = [c for c in reader.connections if _short(c.topic) in RECORDED
+                      and _short(c.topic) not in DISPLAY]
             first = last = None
             for connection, t_ns, raw in reader.messages(connections=wanted):
                 first = t_ns if first is None else first
@@ -322,8 +291,8 @@ def _custom_data(reader) -> dict[str, str]:
 def _assemble(start, parts: dict[str, list]) -> RecordedTrial:
     n = int(start.n_envs)
     try:
-        model = ModelConfig(**json.loads(start.model_json)) if start.model_json else ModelConfig()
-    except (TypeError, ValueError) as error:
+        model = model_from_json(start.model_json)
+    except ConfigError as error:
         raise BagError(f"trial {start.trial}: unreadable model settings ({error})") from None
     trial = int(start.trial)
     mine = {k: [m for m in v if m.trial == trial and m.n_envs == n] for k, v in parts.items()}

@@ -14,9 +14,9 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.patches import Circle, Wedge  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .config import ModelConfig  # noqa: E402
-from .engine import Trace  # noqa: E402
-from .world import Geometry, _arm_points_batch  # noqa: E402
+from ..config import ModelConfig  # noqa: E402
+from ..trials import Trace  # noqa: E402
+from ..world import Geometry, _arm_points_batch  # noqa: E402
 
 
 @dataclass

@@ -7,33 +7,22 @@ from collections import Counter
 from pathlib import Path
 
 from rclpy.node import Node
-from sensor_msgs.msg import JointState
-from visualization_msgs.msg import MarkerArray
 
-from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch, TrialStart
+from ..errors import ConfigError
+from ..recording.bags import BagWriter, header
+from ..topics import LOCKSTEP, RECORDED, TOPICS
+from . import graph
 
-from ..bags import SENSORS, TOPIC_TYPES, BagWriter, header
-from . import common
-
-MESSAGE_CLASSES = {
-    common.TRIAL_START: (TrialStart, common.TRIAL_START_QOS),
-    common.RETINA: (Retina, common.LOCKSTEP_QOS),
-    common.PROPRIOCEPTION: (Proprioception, common.LOCKSTEP_QOS),
-    common.TOUCH: (Touch, common.LOCKSTEP_QOS),
-    common.MUSCLE_COMMAND: (MuscleCommand, common.LOCKSTEP_QOS),
-    common.JOINT_STATES: (JointState, common.DISPLAY_QOS),
-    common.MARKERS: (MarkerArray, common.DISPLAY_QOS),
-}
-ALL_TOPICS = tuple(MESSAGE_CLASSES)
+ALL_TOPICS = RECORDED
 
 
 class TopicRecorder:
     """Raw subscriptions to ``topics``; while a bag is open every message goes into it."""
 
     def __init__(self, node: Node, topics=ALL_TOPICS):
-        unknown = [t for t in topics if t not in MESSAGE_CLASSES]
+        unknown = [t for t in topics if t not in RECORDED]
         if unknown:
-            raise common.NodeError(f"cannot record topic(s) {', '.join(unknown)} (choose from "
+            raise ConfigError(f"cannot record topic(s) {', '.join(unknown)} (choose from "
                                    f"{', '.join(ALL_TOPICS)})")
         self.node = node
         self.topics = tuple(topics)
@@ -42,16 +31,14 @@ class TopicRecorder:
         self.heard: Counter = Counter()       # (topic, trial) -> sensor/command messages
         self.min_trial = 0      # drop econet messages of earlier trials (late stragglers)
         for topic in self.topics:
-            cls, qos = MESSAGE_CLASSES[topic]
-            node.create_subscription(cls, topic, lambda data, t=topic: self._on(t, data), qos,
-                                     raw=True)
+            graph.subscription(node, topic, lambda data, t=topic: self._on(t, data), raw=True)
 
     def start(self, path: Path, custom: dict[str, str] | None = None,
               min_trial: int = 0) -> BagWriter:
         self.stop()
         self.min_trial = min_trial
         self.heard.clear()
-        self.writer = BagWriter(path, {self.names[t]: TOPIC_TYPES[t] for t in self.topics},
+        self.writer = BagWriter(path, {self.names[t]: TOPICS[t].type for t in self.topics},
                                 custom)
         return self.writer
 
@@ -64,7 +51,7 @@ class TopicRecorder:
     def _on(self, topic: str, data: bytes) -> None:
         if self.writer is None:
             return
-        econet = topic in SENSORS or topic in (common.MUSCLE_COMMAND, common.TRIAL_START)
+        econet = topic in LOCKSTEP or topic == "trial_start"
         trial = header(data)[0] if econet else None
         if econet and trial < self.min_trial:
             return

@@ -32,6 +32,15 @@ class TrialMeasures:
         separations = (contact[:-1] & ~contact[1:]).sum(axis=0)
         return cls(contact.sum(axis=0), success, latency, separations)
 
+    def table(self) -> str:
+        """Summary lines over all trials, for people (econet evaluate, econet bag measures)."""
+        n = len(self.fitness)
+        return (f"success      {int(np.sum(self.success))}/{n} trials "
+                f"({100 * np.mean(self.success):.0f}%)\n"
+                f"fitness      mean {np.mean(self.fitness):.1f} cycles in contact\n"
+                f"latency      mean {np.mean(self.latency):.1f} cycles to first contact\n"
+                f"separations  mean {np.mean(self.separations):.2f} per trial")
+
 
 @dataclass
 class Trace:

@@ -1,4 +1,8 @@
-"""Result folders: one per evolutionary run, in open formats (JSON, CSV, NumPy .npy).
+"""Result folders and the one loop that fills them: ``evolve_into`` evolves (or resumes) a run
+into its folder with any evaluator (in process, or through the ROS graph); ``run_condition``
+does that for several runs with a progress bar; ``replay`` re-tests a stored generation.
+
+A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .npy):
 
     run.json          format tag, the full Config, seed, run number, weights per econet
     metrics.csv       one row per finished generation (columns: METRIC_COLUMNS)
@@ -16,13 +20,17 @@ from __future__ import annotations
 import csv
 import json
 import os
+import tempfile
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
+from tqdm import tqdm
 
 from . import genome as genome_codes
 from .config import Config, ConfigError
-from .evolution import GenerationResult
+from .errors import ResultsError, UsageError
+from .evolution import Evaluator, GenerationResult, initial_genomes, next_generation
 
 FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
@@ -77,13 +85,13 @@ class RunStore:
         if meta.exists():
             stored = json.loads(meta.read_text(encoding="utf-8"))
             if stored != self.header:
-                raise ConfigError(f"{self.path} holds a run with different settings; "
-                                  "choose another output folder or pass --overwrite")
+                raise ResultsError(f"{self.path} holds a run with different settings; "
+                                   "choose another output folder or pass --overwrite")
             for name, shape in self._shapes.items():
                 self._arrays[name] = np.load(self.path / f"{name}.npy", mmap_mode="r+")
                 if self._arrays[name].shape != shape:
-                    raise ConfigError(f"{self.path / name}.npy has shape "
-                                      f"{self._arrays[name].shape}, expected {shape}")
+                    raise ResultsError(f"{self.path / name}.npy has shape "
+                                       f"{self._arrays[name].shape}, expected {shape}")
             done = self._finished_rows()
             return done, np.array(self._arrays["genomes"][done])
         self.path.mkdir(parents=True, exist_ok=True)
@@ -134,12 +142,15 @@ class RunData:
         self.path = Path(path)
         meta = self.path / "run.json"
         if not meta.exists():
-            raise FileNotFoundError(f"{self.path} is not a run folder (no run.json)")
+            raise ResultsError(f"{self.path} is not a run folder (no run.json)")
         self.header = json.loads(meta.read_text(encoding="utf-8"))
         if self.header.get("format") != FORMAT:
-            raise ValueError(f"{meta} has format {self.header.get('format')!r}, "
-                             f"this version reads {FORMAT!r}")
-        self.config = Config.from_dict(self.header["config"])
+            raise ResultsError(f"{meta} has format {self.header.get('format')!r}, "
+                               f"this version reads {FORMAT!r}")
+        try:
+            self.config = Config.from_dict(self.header["config"])
+        except (ConfigError, KeyError) as error:
+            raise ResultsError(f"{meta} holds an unreadable config: {error}") from None
         self.seed = int(self.header["seed"])
         self.run = int(self.header["run"])
         with open(self.path / "metrics.csv", newline="", encoding="utf-8") as handle:
@@ -154,7 +165,7 @@ class RunData:
     def genomes(self, generation: int) -> np.ndarray:
         """The population tested in a generation (generation == generations: final offspring)."""
         if not 0 <= generation <= self.generations_done:
-            raise IndexError(f"generation {generation} not in {self.path} "
+            raise ResultsError(f"generation {generation} not in {self.path} "
                              f"(0-{self.generations_done} available)")
         return np.array(np.load(self.path / "genomes.npy", mmap_mode="r")[generation])
 
@@ -163,3 +174,99 @@ class RunData:
 
     def best_genomes(self) -> np.ndarray:
         return np.load(self.path / "best_genomes.npy")[:self.generations_done]
+
+
+# -- the one generation loop ------------------------------------------------------------------
+OnGeneration = Callable[[GenerationResult, np.ndarray], None]
+
+
+def evolve_into(folder: Path, config: Config, seed: int, run: int,
+                evaluator: Evaluator | None = None, on_generation: OnGeneration | None = None,
+                record: bool = False, on_open: Callable[[int], None] | None = None) -> int:
+    """Evolve one run into ``folder``, resuming from its last finished generation.
+
+    Each generation is tested by ``evaluator`` (default: in process), its offspring bred, and
+    both written before ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears
+    how many generations the folder already held. Returns the run's generation count."""
+    evaluator = evaluator or Evaluator(config)
+    n_weights = evaluator.n_weights
+    store = RunStore(folder, config, seed, run, n_weights)
+    done, genomes = store.open(lambda: initial_genomes(config, n_weights, seed, run))
+    if on_open:
+        on_open(done)
+    for generation in range(done, config.evolution.generations):
+        result = evaluator.test_generation(genomes, seed, run, generation, record)
+        genomes = next_generation(config, result, seed, run)
+        store.write(result, genomes)
+        if on_generation:
+            on_generation(result, genomes)
+    return config.evolution.generations
+
+
+def run_folder(out: Path, run: int) -> Path:
+    return Path(out) / f"run-{run:02d}"
+
+
+def finished_generations(run_dir: Path) -> int:
+    """Finished generations of a run folder (rows of metrics.csv), cheaply; 0 if none."""
+    try:
+        with open(Path(run_dir) / "metrics.csv", "rb") as handle:
+            return max(handle.read().count(b"\n") - 1, 0)
+    except OSError:
+        return 0
+
+
+def run_condition(config: Config, runs: int, seed: int, out: Path, progress: bool = True,
+                  evaluator: Evaluator | None = None,
+                  on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None = None
+                  ) -> str:
+    """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
+    were interrupted, calling on_generation(run, result, offspring) after each generation;
+    returns a short human-readable summary."""
+    evaluator = evaluator or Evaluator(config)
+    generations = config.evolution.generations
+    done = sum(finished_generations(run_folder(out, run)) for run in range(1, runs + 1))
+    with tqdm(total=runs * generations, initial=done, desc=config.evolution.condition,
+              unit="gen", disable=not progress, dynamic_ncols=True) as bar:
+        for run in range(1, runs + 1):
+            def tick(result: GenerationResult, offspring: np.ndarray, run=run) -> None:
+                if on_generation:
+                    on_generation(run, result, offspring)
+                bar.set_postfix(run=run, top_fitness=f"{result.fitness[result.parents].mean():.0f}")
+                bar.update()
+
+            evolve_into(run_folder(out, run), config, seed, run, evaluator, tick)
+    return summarize(out, runs)
+
+
+def summarize(out: Path, runs: int) -> str:
+    lines = [f"results: {Path(out).resolve()}"]
+    for run in range(1, runs + 1):
+        data = RunData(run_folder(out, run))
+        top = data.metrics["top_fitness"]
+        lines.append(f"  run-{run:02d}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
+                     f"(gen {data.generations_done - 1}), best {int(data.metrics['best_fitness'][-1])}")
+    lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
+                 "genomes.npy, fitness.npy, best_genomes.npy")
+    return "\n".join(lines)
+
+
+def replay(run_dir: Path, generation: int, record: bool = True,
+           evaluator: Evaluator | None = None) -> GenerationResult:
+    """Re-test a stored generation with its original trials and noise; with record=True the
+    result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...)."""
+    data = RunData(run_dir)
+    evaluator = evaluator or Evaluator(data.config)
+    return evaluator.test_generation(data.genomes(generation), data.seed, data.run, generation,
+                                     record)
+
+
+def ensure_writable(folder: Path) -> None:
+    """Fail now, not after an hour of work, if results cannot be written to folder."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise UsageError(f"cannot write to output folder {folder}: "
+                         f"{error.strerror or error}") from None

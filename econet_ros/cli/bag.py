@@ -14,16 +14,16 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import numpy as np
+from ..errors import UsageError
+from ..recording.bags import read_bag, replay
+from ..runs import ensure_writable
+from .options import Parser
 
 
-def add_commands(commands) -> None:
-    """Register ``econet bag ...`` and the controller commands on the CLI's subparsers."""
-    from .cli import _Parser
-
+def add_parser(commands) -> None:
     bag = commands.add_parser("bag", help="inspect, score, render and replay recorded trials",
                               description=__doc__.split("\n\n")[0])
-    verbs = bag.add_subparsers(dest="verb", required=True, parser_class=_Parser)
+    verbs = bag.add_subparsers(dest="verb", required=True, parser_class=Parser)
     for name, handler, text in (
             ("info", _info, "topics, message counts, trials and custom data"),
             ("measures", _measures, "trial measures computed from the recorded messages"),
@@ -43,24 +43,8 @@ def add_commands(commands) -> None:
             verb.add_argument("--fps", type=int, default=10, help="GIF frames per second")
         verb.set_defaults(handler=handler)
 
-    from . import plugin_commands
-    plugin_commands.add_commands(commands)
-
-
-def _load(path: str):
-    from .bags import BagError, read_bag
-    from .cli import UsageError
-
-    try:
-        bag = read_bag(Path(path))
-    except BagError as error:
-        raise UsageError(str(error)) from None
-    return bag
-
 
 def _trials(bag, number: int | None):
-    from .cli import UsageError
-
     if not bag.trials:
         raise UsageError(f"{bag.path} holds no econet trials (no trial_start messages)")
     if number is None:
@@ -73,7 +57,7 @@ def _trials(bag, number: int | None):
 
 
 def _info(args: argparse.Namespace) -> int:
-    bag = _load(args.bag)
+    bag = read_bag(Path(args.bag))
     print(f"bag: {bag.path}  ({sum(n for _, n in bag.topics.values())} messages, "
           f"{bag.duration_s:.2f} s)")
     width = max((len(t) for t in bag.topics), default=5)
@@ -90,7 +74,7 @@ def _info(args: argparse.Namespace) -> int:
 
 
 def _measures(args: argparse.Namespace) -> int:
-    bag = _load(args.bag)
+    bag = read_bag(Path(args.bag))
     for trial in _trials(bag, args.trial):
         m = trial.measures()
         heard = trial.heard_cycles
@@ -108,11 +92,9 @@ def _measures(args: argparse.Namespace) -> int:
 
 
 def _render(args: argparse.Namespace) -> int:
-    from .bags import replay
-    from .cli import UsageError, check_writable
-    from .render import TrialFrames, animate, filmstrip
+    from ..recording.render import TrialFrames, animate, filmstrip   # matplotlib: late
 
-    bag = _load(args.bag)
+    bag = read_bag(Path(args.bag))
     trial = _trials(bag, args.trial)[0]
     if not 0 <= args.env < trial.n_envs:
         raise UsageError(f"--env must be between 0 and {trial.n_envs - 1} (trial {trial.trial} "
@@ -120,7 +102,7 @@ def _render(args: argparse.Namespace) -> int:
     if args.fps < 1:
         raise UsageError(f"--fps must be at least 1, got {args.fps}")
     out = Path(args.out) if args.out else bag.path.parent
-    check_writable(out)
+    ensure_writable(out)
     states = replay(trial)     # the states behind the recorded sensors (from start + commands)
     k, e = states.checked, args.env
     frames = TrialFrames(states.body[:, e], states.shoulder[:, e], states.elbow[:, e],
@@ -136,9 +118,7 @@ def _render(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
-    from .bags import replay
-
-    bag = _load(args.bag)
+    bag = read_bag(Path(args.bag))
     ok, checked = True, 0
     for trial in _trials(bag, None):
         if not trial.lockstep:
@@ -161,12 +141,3 @@ def _replay(args: argparse.Namespace) -> int:
         return 1
     print("replay: identical" if ok else "replay: DIFFERENT")
     return 0 if ok else 1
-
-
-def measures_table(measures, n: int) -> str:
-    """Summary lines of a batch's measures (shared with ``econet evaluate``)."""
-    return (f"success      {int(np.sum(measures.success))}/{n} trials "
-            f"({100 * np.mean(measures.success):.0f}%)\n"
-            f"fitness      mean {np.mean(measures.fitness):.1f} cycles in contact\n"
-            f"latency      mean {np.mean(measures.latency):.1f} cycles to first contact\n"
-            f"separations  mean {np.mean(measures.separations):.2f} per trial")

@@ -1,0 +1,4 @@
+"""The ``econet`` command line (see main.py); ``econet_ros.cli:main`` is the console script."""
+from .main import main
+
+__all__ = ["main"]

@@ -1,0 +1,90 @@
+"""``econet study``: the paper's whole reproduction (three conditions, analyses, figures,
+report); ``econet analyze``: the figures and report again from an existing study folder."""
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import time
+from pathlib import Path
+
+from ..config import CONDITIONS
+from ..errors import UsageError
+from ..runs import ensure_writable
+from ..science.study import SENSITIVITY, StudySpec, run_study
+from .options import add_config_options, add_run_options, config_from, positive
+
+
+def add_parser(commands) -> None:
+    study = commands.add_parser(
+        "study", help="reproduce the paper: all three conditions, analyses, figures, report",
+        description="Run the normal, three-layer and random-movement conditions (--runs runs "
+                    "each), record per-generation behaviour statistics, then write figures and "
+                    "a report comparing every claim of the paper's Results section with our "
+                    "data. Re-running the same command resumes an interrupted study.")
+    add_run_options(study, out="results/study")
+    study.add_argument("--jobs", type=positive, default=max(1, min(os.cpu_count() or 1, 8)),
+                       help="worker processes (default: the number of CPUs, %(default)s)")
+    study.add_argument("--sensitivity", metavar="VARIANT", action="append",
+                       help="also run a sensitivity variant (hidden-2-2-4, hidden-8-8-16, "
+                            "object-radius-4, or all); repeatable; may be added to an "
+                            "existing study folder later")
+    study.add_argument("--sensitivity-runs", type=positive, metavar="N",
+                       help="runs per sensitivity variant (default: --runs)")
+    _add_report_options(study, "OUT")
+    add_config_options(study, ("evolution", "network", "model"), skip=("evolution.condition",))
+    study.set_defaults(handler=run)
+
+    analyze = commands.add_parser(
+        "analyze", help="re-make figures and report from an existing study folder",
+        description="Analyse the results of econet study (complete or partial: gaps are "
+                    "stated in the report) and write the figures and the report.")
+    analyze.add_argument("results", metavar="RESULTS_DIR", help="folder made by econet study")
+    _add_report_options(analyze, "RESULTS_DIR")
+    analyze.set_defaults(handler=lambda args: report(Path(args.results), args.report,
+                                                     args.figures))
+
+
+def _add_report_options(parser: argparse.ArgumentParser, folder: str) -> None:
+    parser.add_argument("--report", metavar="FILE",
+                        help=f"report path (default: {folder}/report.md)")
+    parser.add_argument("--figures", metavar="DIR",
+                        help="figures folder (default: the report's folder/figures)")
+
+
+def run(args: argparse.Namespace) -> int:
+    config = config_from(args, **{"evolution.condition": "normal"})
+    variants = {}
+    for name in args.sensitivity or []:
+        if name == "all":
+            variants.update(SENSITIVITY)
+        elif name in SENSITIVITY:
+            variants[name] = SENSITIVITY[name]
+        else:
+            raise UsageError(f"unknown sensitivity variant '{name}' (choose from "
+                             f"{', '.join(SENSITIVITY)}, all)")
+    for changes in variants.values():
+        config.replace(**changes)          # fail now on a variant that cannot work
+    out = Path(args.out)
+    ensure_writable(out)
+    if args.overwrite:
+        for sub in (*CONDITIONS, "sensitivity", "figures"):
+            shutil.rmtree(out / sub, ignore_errors=True)
+        (out / "study.json").unlink(missing_ok=True)
+    spec = StudySpec(config, args.runs, args.seed, variants,
+                     args.sensitivity_runs if variants else None)
+    seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
+    print(f"evolution: {seconds / 60:.1f} min")
+    return report(out, args.report, args.figures)
+
+
+def report(out: Path, report_path: str | None, figures: str | None) -> int:
+    from ..science.report import build_report   # matplotlib: late
+
+    started = time.time()
+    path, notes = build_report(out, Path(report_path) if report_path else None,
+                               Path(figures) if figures else None)
+    for note in notes:
+        print(f"note: {note}")
+    print(f"report: {path} (analysis {time.time() - started:.0f} s)")
+    return 0

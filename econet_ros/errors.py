@@ -1,0 +1,44 @@
+"""The project's errors: one base, EconetError, whose message is one line meant for the user.
+
+The command line (econet_ros.cli.main) and the node runner (econet_ros.nodes.runner) each catch
+EconetError once and print it as ``<program>: error: <message>`` with exit status 2; nothing
+else turns errors into text. The kinds say which contract was broken, so callers that can do
+something about one kind (a retry, a refusal reply) catch just that kind.
+"""
+from __future__ import annotations
+
+
+class EconetError(Exception):
+    """Bad input or a state that cannot work; str(error) is one line for the user."""
+
+
+class ConfigError(EconetError, ValueError):
+    """A setting (config file, --set, a ROS parameter, a sweep spec) that cannot work."""
+
+
+class SetupError(EconetError, ValueError):
+    """Trial starts the world cannot take (object out of reach, joint outside its range...)."""
+
+
+class PluginError(EconetError, ValueError):
+    """A controller name that cannot be used."""
+
+
+class UsageError(EconetError):
+    """Bad command-line input or an output path that cannot be written."""
+
+
+class ResultsError(EconetError):
+    """A run or study folder that cannot be read, resumed or analysed."""
+
+
+class BagError(EconetError):
+    """A bag that cannot be written or read."""
+
+
+class WireError(EconetError, ValueError):
+    """Bytes that are not a message of the expected type."""
+
+
+class GraphError(EconetError):
+    """The node graph cannot do what was asked (a node refused a request, or vanished)."""

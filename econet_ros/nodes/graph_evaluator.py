@@ -1,0 +1,207 @@
+"""The supervisor's Evaluator: tests a generation through the world and controller nodes
+instead of in process, with exactly the in-process trial starts, weights and noise, so that
+``runs.evolve_into`` writes the same result folders either way.
+
+Per batch of trials it swaps the controller's weights (set_weights), starts the trials in the
+world (reset_trials), lets world and controller run the cycles in lockstep and scores fitness
+from the touch topic it hears. A batch that cannot finish (a node vanished, nothing moved) is
+run again from its start once the graph is back; batches are deterministic, so nothing changes.
+"""
+from __future__ import annotations
+
+import shutil
+import time
+from pathlib import Path
+
+import numpy as np
+from rclpy.node import Node
+
+from ..config import Config
+from ..errors import GraphError
+from ..evolution import GenerationResult, genome_weights, noise_seed, score_generation
+from ..evolution import generation_setups
+from ..topics import COMMAND, SENSORS
+from ..trials import TrialMeasures
+from ..world import TrialSetup
+from . import graph
+
+
+class BatchFailed(GraphError):
+    """A batch of trials could not finish through the graph; it is run again from its start."""
+
+
+class GraphEvaluator:
+    def __init__(self, node: Node, config: Config, network: str, n_weights: int,
+                 stall_timeout: float, service_timeout: float, recorder=None):
+        self.node, self.config, self.network = node, config, network
+        self.n_weights = n_weights
+        self.stall_timeout, self.service_timeout = stall_timeout, service_timeout
+        self.recorder = recorder
+        self.executor = None                 # set once the node is spinning
+        self.touch: dict[int, dict[int, np.ndarray]] = {}   # trial -> cycle -> contact
+        self.last_touch = time.monotonic()
+        self.repeats = 0
+        self.recorded_trial = -1
+        graph.subscription(node, "touch", self._on_touch, raw=True)
+        self.set_weights = node.create_client(graph.service_class("set_weights"), "set_weights")
+        self.reset_trials = node.create_client(graph.service_class("reset_trials"),
+                                               "reset_trials")
+
+    # -- the Evaluator interface ------------------------------------------------------------
+    def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
+        return generation_setups(self.config, seed, run, generation)
+
+    def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
+                        record: bool = False) -> GenerationResult:
+        """Like evolution.Evaluator.test_generation, with world and controller as nodes."""
+        setup = self.trial_setups(seed, run, generation)
+        requests = self.requests(genomes, setup, seed, run, generation)
+        contact = self.run_batch(*requests, where=f"run {run} generation {generation}")
+        return score_generation(self.config, generation, genomes,
+                                TrialMeasures.from_contact(contact))
+
+    # -- batches of trials ------------------------------------------------------------------
+    def requests(self, genomes: np.ndarray, setup: TrialSetup, seed: int, run: int,
+                 generation: int):
+        """The weight swap (one network per econet, each driving its block of trials) and the
+        reset that start a batch of trials exactly as the in-process engine would."""
+        weights = genome_weights(self.config, genomes)
+        weights_request = graph.service_class("set_weights").Request(
+            n_envs=len(setup), weights_per_network=weights.shape[1],
+            weights=graph.f64(weights), noise_seed=noise_seed(seed, run, generation),
+            network=self.network)
+        reset_request = graph.service_class("reset_trials").Request(
+            n_envs=len(setup), cycles=self.config.evolution.cycles, seed=0,
+            object_xy=graph.f64(setup.object_xy), body_deg=graph.f64(setup.body),
+            shoulder_deg=graph.f64(setup.shoulder), elbow_deg=graph.f64(setup.elbow))
+        return weights_request, reset_request
+
+    def run_batch(self, weights_request, reset_request, where: str, bag: Path | None = None,
+                  custom: dict | None = None) -> np.ndarray:
+        """(cycles, n_envs) contact history of one batch, retried until it finishes; with
+        ``bag``, the attempt that finishes is recorded (into bag.partial, renamed to bag)."""
+        attempt = 0
+        while True:
+            attempt += 1
+            partial = bag.with_name(bag.name + ".partial") if bag else None
+            try:
+                if partial:
+                    shutil.rmtree(partial, ignore_errors=True)
+                    partial.parent.mkdir(parents=True, exist_ok=True)
+                    # messages of trials before the next reset are stragglers (a retry may
+                    # follow a restarted world, whose trials count from 1 again)
+                    self.recorder.start(partial, custom,
+                                        min_trial=self.recorded_trial + 1 if attempt == 1 else 0)
+                contact = self._run_once(weights_request, reset_request)
+                if partial:
+                    self._finish_recording(reset_request.cycles)
+                    self.recorder.stop()
+                    partial.rename(bag)
+                return contact
+            except BatchFailed as why:
+                self.node.get_logger().warning(
+                    f"{where}: {why}; testing the {'recording' if bag else 'generation'} again "
+                    f"(attempt {attempt + 1})")
+                self.wait_for_graph()
+            finally:
+                if self.recorder is not None:
+                    self.recorder.stop()
+
+    def _run_once(self, weights_request, reset_request) -> np.ndarray:
+        reply = self._call(self.set_weights, weights_request, "set_weights")
+        if not reply.success:
+            raise GraphError(f"the controller refused the weights: {reply.message}")
+        self.touch.clear()
+        reply = self._call(self.reset_trials, reset_request, "reset_trials")
+        if not reply.success:
+            raise GraphError(f"the world refused the reset: {reply.message}")
+        self.recorded_trial = reply.trial
+        return self._contact(reply.trial, reset_request.cycles, reset_request.n_envs)
+
+    def _contact(self, trial: int, cycles: int, n: int) -> np.ndarray:
+        """Spin until touch of cycles 0..cycles of ``trial`` is in; its contact history."""
+        for other in [t for t in self.touch if t != trial]:
+            del self.touch[other]
+        self.last_touch = time.monotonic()
+        heard = self.touch.setdefault(trial, {})
+        while len(heard) < cycles + 1:
+            self.executor.spin_once(timeout_sec=0.05)
+            heard = self.touch.setdefault(trial, {})
+            self._check_alive(len(heard) - 1, cycles)
+        contact = np.empty((cycles, n), dtype=bool)
+        for t in range(1, cycles + 1):
+            if len(heard[t]) != n:
+                raise BatchFailed(f"touch for cycle {t} has {len(heard[t])} environments, "
+                                  f"expected {n}")
+            contact[t - 1] = heard[t] != 0
+        del self.touch[trial]
+        return contact
+
+    def _check_alive(self, cycle: int, cycles: int) -> None:
+        if self.node.count_publishers(COMMAND) == 0:
+            raise BatchFailed(f"the controller vanished (nothing publishes muscle_command) at "
+                              f"cycle {cycle} of {cycles}")
+        if self.node.count_publishers("touch") == 0:
+            raise BatchFailed(f"the world vanished at cycle {cycle} of {cycles}")
+        if time.monotonic() - self.last_touch > self.stall_timeout:
+            raise BatchFailed(f"no cycle for {self.stall_timeout:g} s after cycle {cycle} of "
+                              f"{cycles} (controller or world gone?)")
+
+    def _finish_recording(self, cycles: int) -> None:
+        """After the last touch: wait until the trial's other sensor messages are recorded."""
+        trial, heard = self.recorded_trial, self.recorder.heard
+
+        def done():
+            return all(heard[part, trial] >= cycles + 1 for part in SENSORS) and \
+                heard[COMMAND, trial] >= cycles
+        if not self.spin_until(done, self.service_timeout):
+            raise BatchFailed("the recording missed messages of the trial")
+        self.spin_until(lambda: False, 0.2)     # the last display pictures
+
+    # -- plumbing ---------------------------------------------------------------------------
+    def _on_touch(self, data: bytes) -> None:
+        """A serialized Touch message (see wire)."""
+        msg = graph.decode(self.node, "touch", data)
+        if msg is None:
+            return
+        trial, cycle = msg["trial"], msg["cycle"]
+        cycles = self.touch.setdefault(trial, {})
+        if cycle in cycles:
+            self.repeats += 1
+            self.node.get_logger().error(f"lockstep broken: cycle {cycle} of trial {trial} "
+                                         "arrived twice")
+        cycles[cycle] = msg["contact"]
+        self.last_touch = time.monotonic()
+
+    def spin_until(self, done, timeout: float) -> bool:
+        deadline = time.monotonic() + timeout
+        while not done():
+            if time.monotonic() > deadline:
+                return False
+            self.executor.spin_once(timeout_sec=0.05)
+        return True
+
+    def _call(self, client, request, what: str):
+        if not client.service_is_ready():
+            raise BatchFailed(f"the {what} service is not available")
+        future = client.call_async(request)
+        if not self.spin_until(future.done, self.service_timeout):
+            raise BatchFailed(f"no reply from {what} within {self.service_timeout:g} s")
+        return future.result()
+
+    def wait_for_graph(self) -> None:
+        """Block (logging now and then) until both services and the muscle commands exist."""
+        said = 0.0
+        while True:
+            missing = [name for name, ok in (
+                ("controller (set_weights service)", self.set_weights.service_is_ready()),
+                ("world (reset_trials service)", self.reset_trials.service_is_ready()),
+                ("controller (muscle_command publisher)",
+                 self.node.count_publishers(COMMAND) > 0),
+                ("world (touch publisher)", self.node.count_publishers("touch") > 0)) if not ok]
+            if not missing:
+                return
+            if time.monotonic() - said > 5.0:
+                self.node.get_logger().info("waiting for " + ", ".join(missing))
+                said = time.monotonic()
+            self.spin_until(lambda: False, 0.1)

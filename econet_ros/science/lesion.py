@@ -1,0 +1,84 @@
+"""The paper's proprioceptive lesion: evolved networks tested again with every connection from
+the proprioceptive input units severed (paper: Stereotyped approach movements). ROS-free."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Config
+from ..evolution import genome_weights, rng_for, select_parents
+from ..plugins import make_controller
+from ..runs import RunData
+from ..trials import Trace, run_trials
+from ..world import N_PROPRIO, TrialSetup, World, sample_setups
+from .measures import summarize_reaches
+
+LESION_TRIALS = 50     # fresh trials per selected econet in the lesion test
+LESION_PURPOSE = 7     # random stream (evolution.rng_for) used for the lesion trials
+
+
+def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:
+    """Bool mask over a network's flat weight vector: True for every weight leaving one of the
+    four proprioceptive input units (see controllers.py for the layout)."""
+    vis, net = config.model.visual_units, config.network
+    n = make_controller(condition, 1, config).n_params
+    mask = np.zeros(n, dtype=bool)
+    if condition == "normal":
+        start = vis * net.visual_hidden     # the proprio -> proprioceptive-hidden layer
+        mask[start:start + N_PROPRIO * net.proprio_hidden] = True
+    elif condition == "three-layer":
+        n_in = vis + N_PROPRIO + 1
+        for k in range(net.three_layer_hidden):
+            mask[k * n_in + vis:k * n_in + vis + N_PROPRIO] = True
+    else:
+        raise ValueError(f"no proprioceptive weights in condition '{condition}'")
+    return mask
+
+
+def sever_proprioception(weights: np.ndarray, config: Config, condition: str) -> np.ndarray:
+    """Copy of (n, W) weights with the proprioceptive inputs' outgoing weights set to zero."""
+    out = np.array(weights, dtype=np.float64, copy=True)
+    out[:, proprioceptive_weight_mask(config, condition)] = 0.0
+    return out
+
+
+def run_networks(config: Config, condition: str, weights: np.ndarray, setup: TrialSetup,
+                 trials: int) -> Trace:
+    """Run each of the (k, W) networks on the same ``trials`` trial starts (setup has
+    ``trials`` entries); environment e = network * trials + trial."""
+    k = weights.shape[0]
+    n = k * trials
+    world = World(n, config.model)
+    controller = make_controller(condition, n, config)
+    controller.load(np.repeat(weights, trials, axis=0), 0)
+    _, trace = run_trials(world, controller, setup.take(np.tile(np.arange(trials), k)),
+                          config.evolution.cycles, record=True)
+    return trace
+
+
+def lesion_study(run_dirs: list[Path]) -> list[dict]:
+    """Final top-20 econets of each normal run, intact vs proprioception severed, on fresh
+    trials (LESION_TRIALS per econet). Returns one dict per run."""
+    out = []
+    for path in run_dirs:
+        run = RunData(path)
+        g = run.generations_done - 1
+        if g < 0:
+            continue
+        config: Config = run.config
+        e = config.evolution
+        parents = select_parents(run.fitness()[g], e.parents)
+        weights = genome_weights(config, run.genomes(g)[parents])
+        setup = sample_setups(rng_for(run.seed, run.run, e.generations, LESION_PURPOSE),
+                              LESION_TRIALS, config.model)
+        traces = {"intact": run_networks(config, "normal", weights, setup, LESION_TRIALS),
+                  "lesioned": run_networks(config, "normal",
+                                           sever_proprioception(weights, config, "normal"),
+                                           setup, LESION_TRIALS)}
+        out.append({"run": path.name, "generation": g, "traces": traces,
+                    "radius": config.model.object_radius,
+                    **{k: summarize_reaches(t) for k, t in traces.items()}})
+    return out
+
+
