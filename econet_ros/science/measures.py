@@ -138,6 +138,9 @@ BEHAVIOUR_COLUMNS = [
     # Figure 9 (top 20, pre-contact; *_allcyc: every cycle of the trial)
     "top_hand_speed_fix", "top_eye_speed_fix", "top_hand_speed_nofix", "top_eye_speed_nofix",
     "top_hand_speed_fix_allcyc", "top_eye_speed_fix_allcyc",
+    # Figure 3's latency over successful trials only (metrics.csv's counts a miss as the trial
+    # length)
+    "top_latency_success", "all_latency_success",
 ]
 
 
@@ -177,7 +180,17 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
         "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre, eye),
         "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every, hand),
         "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every, eye),
+        "top_latency_success": latency_of_successes(trace, envs),
+        "all_latency_success": latency_of_successes(trace),
     }
+
+
+def latency_of_successes(trace: Trace, envs: np.ndarray | None = None) -> float:
+    """Mean cycle of first contact (1..C, as metrics.csv counts it) over the trials, of the
+    given environments, that make one; NaN if none does."""
+    touch = trace.touch[1:] if envs is None else trace.touch[1:, envs]
+    hit = touch.any(axis=0)
+    return float((touch.argmax(axis=0)[hit] + 1).mean()) if hit.any() else float("nan")
 
 
 # -- reaches ----------------------------------------------------------------------------------
