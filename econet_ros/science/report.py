@@ -1,509 +1,30 @@
 """Figures and the Markdown report of a study folder (see study.py): every claim of the paper's
-Results section next to our measurement and a verdict. Definitions: docs/analysis.md."""
+Results section (claims.py) next to our measurement and a verdict. Definitions: docs/analysis.md."""
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .claims import LOCK, VERDICTS, ClaimResult, evaluate, joint_table
 from .lesion import LESION_TRIALS, lesion_study
-from .measures import ReachSummary
+from .measures import CHANCE
+from .series import Windows, fmt, mean_sd, nanmean, nanstd, per_run
 from .study import ConditionData, StudySpec, load_study
 
 COLORS = {"normal": "tab:blue", "three-layer": "tab:orange", "random": "tab:gray"}
-LOCK = 10.0            # a joint is locked / dominated when flexion% <= LOCK or >= 100 - LOCK
-CHANCE = 0.5
-
-
-# -- small helpers --------------------------------------------------------------------------------
-def _share_below(lower: np.ndarray, upper: np.ndarray) -> float:
-    """Share of generations (where both curves exist) in which ``lower`` < ``upper``."""
-    ok = np.isfinite(lower) & np.isfinite(upper)
-    return float(np.mean(lower[ok] < upper[ok])) if ok.any() else float("nan")
-
-
-def _nanmean(a, axis=None):
-    a = np.asarray(a, dtype=float)
-    if a.size == 0 or np.all(np.isnan(a)):
-        return np.nan if axis is None else np.full(np.delete(a.shape, axis), np.nan)
-    with np.errstate(all="ignore"):
-        import warnings
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            return np.nanmean(a, axis=axis)
-
-
-def _nanstd(a, axis=None):
-    import warnings
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)
-        return np.nanstd(np.asarray(a, dtype=float), axis=axis)
-
-
-@dataclass
-class Windows:
-    """Generation windows scaled to the study length G (paper: G = 200)."""
-
-    G: int
-
-    @property
-    def early(self) -> slice:        # first 10% (paper: "the first 20 generations")
-        return slice(0, max(1, self.G // 10))
-
-    @property
-    def first_quarter(self) -> slice:   # first 25% (paper: "the first 50 generations")
-        return slice(0, max(1, self.G // 4))
-
-    @property
-    def final(self) -> slice:        # last 10%
-        return slice(self.G - max(1, self.G // 10), self.G)
-
-    def label(self, s: slice) -> str:
-        return f"gens {s.start}-{s.stop - 1}"
-
-
-def _curve(data: ConditionData, source: str, column: str) -> np.ndarray:
-    """(runs, G) per-run series; ValueError when the condition has no runs."""
-    if data is None or not data.n_runs:
-        raise ValueError(f"no {data.name if data is not None else 'such'} runs")
-    table = data.metrics if source == "m" else data.behaviour
-    return table[column]
-
-
-def _win(data: ConditionData, source: str, column: str, window: slice) -> np.ndarray:
-    """Per-run mean over a generation window (NaN for runs that lack it)."""
-    return _nanmean(_curve(data, source, column)[:, window], axis=1)
-
-
-def _fmt(x: float, digits: int = 2) -> str:
-    return "n/a" if x is None or not np.isfinite(x) else f"{x:.{digits}f}"
-
-
-def _ms(values: np.ndarray, digits: int = 2) -> str:
-    """mean ± s.d. over runs."""
-    v = np.asarray(values, dtype=float)
-    v = v[np.isfinite(v)]
-    if not len(v):
-        return "n/a"
-    return f"{v.mean():.{digits}f} ± {v.std():.{digits}f}"
-
-
-# -- per-run joint classification ----------------------------------------------------------------
-def joint_table(data: ConditionData, windows: Windows) -> list[dict]:
-    """Final-window flexion % and angle per run, with the lock classification."""
-    rows = []
-    sf = _win(data, "b", "all_shoulder_flexion", windows.final)
-    sa = _win(data, "b", "all_shoulder_angle", windows.final)
-    ef = _win(data, "b", "all_elbow_flexion", windows.final)
-    ea = _win(data, "b", "all_elbow_angle", windows.final)
-    full = _curve(data, "b", "all_shoulder_flexion")
-    for i, path in enumerate(data.run_dirs):
-        locked = np.isfinite(sf[i]) and (sf[i] <= LOCK or sf[i] >= 100 - LOCK)
-        if not locked:
-            position = "not locked"
-        elif sa[i] >= 135:
-            position = "extended"
-        elif sa[i] <= 45:
-            position = "flexed"
-        else:
-            position = "mid-range"
-        series = _smooth(full[i], max(1, windows.G // 20))   # 10-generation running mean
-        dominated = (series <= LOCK) | (series >= 100 - LOCK)
-        lock_gen = np.nan
-        finite = np.isfinite(series)
-        if finite.any():
-            last = np.flatnonzero(finite)[-1]
-            # first generation from which the shoulder stays dominated to the end
-            bad = np.flatnonzero(~dominated[:last + 1])
-            lock_gen = (bad[-1] + 1 if len(bad) else 0) if dominated[last] else np.nan
-        elbow_dom = np.isfinite(ef[i]) and (ef[i] <= LOCK or ef[i] >= 100 - LOCK)
-        rows.append({"run": path.name, "shoulder_flexion": sf[i], "shoulder_angle": sa[i],
-                     "locked": locked, "position": position, "lock_generation": lock_gen,
-                     "elbow_flexion": ef[i], "elbow_angle": ea[i], "elbow_compliant": not elbow_dom
-                     and np.isfinite(ef[i])})
-    return rows
-
-
-# -- claims -----------------------------------------------------------------------------------------------
-@dataclass
-class Claim:
-    key: str
-    section: str
-    paper: str
-    ours: str
-    verdict: str          # replicates / partly / does not / n/a
-
-
-def _verdict(full: bool, part: bool) -> str:
-    return "replicates" if full else ("partly" if part else "does not")
-
-
-def evaluate_claims(group: dict[str, ConditionData], lesion: list[dict], G: int) -> list[Claim]:
-    w = Windows(G)
-    N, T, R = group.get("normal"), group.get("three-layer"), group.get("random")
-    claims: list[Claim] = []
-
-    def add(key, section, paper, fn):
-        try:
-            ours, verdict = fn()
-        except ValueError as error:     # a missing condition or empty data: say so
-            ours, verdict = f"not measurable: {error}", "n/a"
-        except Exception as error:      # never let one claim stop the report
-            ours, verdict = f"not measurable ({type(error).__name__}: {error})", "n/a"
-        claims.append(Claim(key, section, paper, ours, verdict))
-
-    def mean_curve(d, src, col):
-        return _nanmean(_curve(d, src, col), axis=0)
-
-    # ---- overall performance (Figure 3)
-    def c_fitness():
-        n, t = mean_curve(N, "m", "top_fitness"), mean_curve(T, "m", "top_fitness")
-        frac = _share_below(t, n)
-        early = float(np.nanmean(n[w.early] - t[w.early]))
-        final = float(np.nanmean(n[w.final] - t[w.final]))
-        return (f"normal > three-layer in {frac:.0%} of generations; mean difference "
-                f"{early:+.1f} ({w.label(w.early)}), {final:+.1f} ({w.label(w.final)})",
-                _verdict(frac >= 0.9 and early > 0, final > 0))
-    add("fitness", "Overall performance", "Four-layer econets learn faster than three-layer "
-        "ones, with higher fitness from virtually the start of training (Fig 3a)", c_fitness)
-
-    def c_latency():
-        cycles = N and _cycles(N)
-        n, t = _win(N, "m", "top_latency", w.final), _win(T, "m", "top_latency", w.final)
-        diff = abs(_nanmean(n) - _nanmean(t)) / cycles
-        return (f"final latency normal {_ms(n, 1)}, three-layer {_ms(t, 1)} cycles "
-                f"(difference {diff:.0%} of a trial)", _verdict(diff <= 0.1, diff <= 0.2))
-    add("latency", "Overall performance", "Only a small difference between four- and "
-        "three-layer econets in latency (Fig 3c)", c_latency)
-
-    def c_successes():
-        n, t = mean_curve(N, "m", "top_successes"), mean_curve(T, "m", "top_successes")
-        frac = _share_below(t, n)
-        fn_, ft = _win(N, "m", "top_successes", w.final), _win(T, "m", "top_successes", w.final)
-        return (f"final successful trials (of {_trials(N)}) normal {_ms(fn_, 1)}, three-layer "
-                f"{_ms(ft, 1)}; three-layer fewer in {frac:.0%} of generations",
-                _verdict(_nanmean(ft) < _nanmean(fn_) and frac >= 0.75,
-                         _nanmean(ft) < _nanmean(fn_) or frac >= 0.5))
-    add("successes", "Overall performance", "Three-layer econets average fewer successful "
-        "trials than four-layer ones (Fig 3b)", c_successes)
-
-    def c_separations():
-        n, t = mean_curve(N, "m", "top_separations"), mean_curve(T, "m", "top_separations")
-        frac = _share_below(n, t)
-        fn_, ft = (_win(N, "m", "top_separations", w.final),
-                   _win(T, "m", "top_separations", w.final))
-        return (f"final separations normal {_ms(fn_, 1)}, three-layer {_ms(ft, 1)}; "
-                f"three-layer more in {frac:.0%} of generations",
-                _verdict(_nanmean(ft) > _nanmean(fn_) and frac >= 0.75,
-                         _nanmean(ft) > _nanmean(fn_) or frac >= 0.5))
-    add("separations", "Overall performance", "After reaching the object, three-layer econets "
-        "lose contact more often than four-layer ones (Fig 3d)", c_separations)
-
-    def c_sep_chance():
-        t = _nanmean(_win(T, "m", "top_separations", w.final))
-        r = _nanmean(_win(R, "m", "top_separations", w.final))
-        ratio = t / r if r else np.inf
-        return (f"final separations three-layer {t:.1f} vs random {r:.1f} (ratio {ratio:.2f})",
-                _verdict(0.67 <= ratio <= 1.5, 0.5 <= ratio <= 2.0))
-    add("separations-chance", "Overall performance", "Three-layer econets average roughly as "
-        "many separations as expected by chance (random condition)", c_sep_chance)
-
-    def c_random_fitness():
-        r = _nanmean(_win(R, "m", "top_fitness", w.final))
-        n = _nanmean(_win(N, "m", "top_fitness", w.final))
-        return (f"final top-20 fitness random {r:.1f} vs normal {n:.1f} "
-                f"({r / n:.0%} of normal)" if n else f"random {r:.1f}",
-                _verdict(n > 0 and r / n < 0.1, n > 0 and r / n < 0.25))
-    add("random-fitness", "Overall performance", "Average fitness in the random-movement "
-        "condition remains near zero (Fig 3a)", c_random_fitness)
-
-    def c_hold_still():
-        ratio = mean_curve(N, "m", "top_separations") / np.maximum(
-            mean_curve(N, "m", "top_successes"), 1e-9)
-        start = float(np.nanmean(ratio[:max(1, G // 40)]))
-        low = float(np.nanmin(ratio[w.first_quarter]))
-        return (f"normal separations per successful trial {start:.2f} at the start, lowest "
-                f"{low:.2f} within {w.label(w.first_quarter)}",
-                _verdict(low <= 0.7 * start, low < start))
-    add("hold-still", "Overall performance", "The capacity to 'hold still' once the object is "
-        "reached emerges early (Fig 3d; Discussion of Fig 9)", c_hold_still)
-
-    # ---- 1 joint locking (Figures 4, 5)
-    jt = joint_table(N, w) if N is not None and N.n_runs else []
-    n_runs = len(jt)
-
-    def c_locked():
-        if not jt:
-            raise ValueError("no normal runs")
-        k = sum(r["locked"] for r in jt)
-        return (f"{k}/{n_runs} runs lock the shoulder (final shoulder flexion <= {LOCK:.0f}% or "
-                f">= {100 - LOCK:.0f}% of cycles)", _verdict(k == n_runs and n_runs > 0,
-                                                            k >= n_runs / 2 and k > 0))
-    add("shoulder-locked", "1 Joint locking", "The shoulder locks in all runs: one shoulder "
-        "muscle becomes dominant (virtually 100% of movements one way) (Fig 4)", c_locked)
-
-    def c_position():
-        if not jt:
-            raise ValueError("no normal runs")
-        ext = sum(r["position"] == "extended" for r in jt)
-        flx = sum(r["position"] == "flexed" for r in jt)
-        locked = sum(r["locked"] for r in jt)
-        return (f"{ext}/{n_runs} extended, {flx}/{n_runs} flexed, "
-                f"{n_runs - locked}/{n_runs} not locked",
-                _verdict(ext >= 0.7 * n_runs and n_runs > 0, ext > flx))
-    add("lock-position", "1 Joint locking", "In 8 of 10 runs the shoulder is held fully "
-        "extended, in the other 2 fully flexed", c_position)
-
-    def c_lock_speed():
-        if not jt:
-            raise ValueError("no normal runs")
-        gens = np.array([r["lock_generation"] for r in jt], dtype=float)
-        if not np.isfinite(gens).any():
-            return "no run locks the shoulder", "does not"
-        med = float(np.nanmedian(gens))
-        return (f"median generation from which the shoulder stays locked: {med:.0f} "
-                f"(runs: {', '.join(_fmt(g, 0) for g in gens)})",
-                _verdict(med <= G / 4, med <= G / 2))
-    add("lock-speed", "1 Joint locking", "One of the two shoulder muscles quickly becomes "
-        "dominant", c_lock_speed)
-
-    def c_elbow():
-        if not jt:
-            raise ValueError("no normal runs")
-        k = sum(r["elbow_compliant"] for r in jt)
-        return (f"{k}/{n_runs} runs keep the elbow compliant (final elbow flexion between "
-                f"{LOCK:.0f}% and {100 - LOCK:.0f}%)",
-                _verdict(k >= 0.8 * n_runs and n_runs > 0, k >= n_runs / 2 and k > 0))
-    add("elbow-compliant", "1 Joint locking", "The elbow stays compliant: in 9 of 10 runs "
-        "neither elbow muscle consistently dominates (Fig 5)", c_elbow)
-
-    # ---- 2 coactivation (Figure 7)
-    def c_early(joint):
-        def fn():
-            co = _win(N, "b", f"top_{joint}_coact", w.early)
-            re = _win(N, "b", f"top_{joint}_recip", w.early)
-            frac = float(np.mean(co < re))
-            return (f"{w.label(w.early)}: deviation from coactivation {_ms(co)}, from "
-                    f"reciprocal {_ms(re)}; coactivation closer in {frac:.0%} of runs",
-                    _verdict(_nanmean(co) < _nanmean(re) and frac >= 0.7,
-                             _nanmean(co) < _nanmean(re)))
-        return fn
-    add("coact-early-shoulder", "2 Muscle coactivation", "Early in learning, coactivation "
-        "predominates in the shoulder muscles (Fig 7a)", c_early("shoulder"))
-    add("coact-early-elbow", "2 Muscle coactivation", "Early in learning, coactivation "
-        "predominates in the elbow muscles (Fig 7b)", c_early("elbow"))
-
-    def c_shoulder_shift():
-        co = _win(N, "b", "top_shoulder_coact", w.final)
-        re = _win(N, "b", "top_shoulder_recip", w.final)
-        re0 = _win(N, "b", "top_shoulder_recip", w.early)
-        return (f"{w.label(w.final)}: shoulder deviation from coactivation {_ms(co)}, from "
-                f"reciprocal {_ms(re)} (reciprocal was {_ms(re0)} early)",
-                _verdict(_nanmean(re) < _nanmean(co), _nanmean(re) < _nanmean(re0)))
-    add("shoulder-reciprocal", "2 Muscle coactivation", "The shoulder muscles shift to the "
-        "reciprocal activation pattern (Fig 7a)", c_shoulder_shift)
-
-    def c_elbow_coact():
-        co, re = mean_curve(N, "b", "top_elbow_coact"), mean_curve(N, "b", "top_elbow_recip")
-        frac = _share_below(co, re)
-        cf, rf = _win(N, "b", "top_elbow_coact", w.final), _win(N, "b", "top_elbow_recip", w.final)
-        return (f"elbow closer to coactivation in {frac:.0%} of generations; "
-                f"{w.label(w.final)}: coactivation {_ms(cf)}, reciprocal {_ms(rf)}",
-                _verdict(frac >= 0.9, _nanmean(cf) < _nanmean(rf)))
-    add("elbow-coactivated", "2 Muscle coactivation", "The elbow muscles remain coactivated: "
-        "coactivation stays the dominant pattern throughout training (Fig 7b)", c_elbow_coact)
-
-    def c_elbow_diminish():
-        c0, cf = _win(N, "b", "top_elbow_coact", w.early), _win(N, "b", "top_elbow_coact", w.final)
-        return (f"elbow deviation from coactivation {_ms(c0)} early -> {_ms(cf)} final",
-                _verdict(_nanmean(cf - c0) >= 0.02, _nanmean(cf - c0) > 0))
-    add("elbow-coact-diminishes", "2 Muscle coactivation", "Elbow coactivation slowly "
-        "diminishes over learning", c_elbow_diminish)
-
-    # ---- 3 stereotyped approach movements (Figure 8, lesion)
-    def c_approach_rises():
-        a0, af = _win(N, "b", "top_approach_fix", w.early), _win(N, "b", "top_approach_fix", w.final)
-        return (f"P(approach | fixated) {_ms(a0)} ({w.label(w.early)}) -> {_ms(af)} "
-                f"({w.label(w.final)})", _verdict(_nanmean(af) > _nanmean(a0) + 0.05,
-                                                  _nanmean(af) > _nanmean(a0)))
-    add("approach-increases", "3 Stereotyped approach", "Approach movements become more direct: "
-        "the probability of approaching a fixated object increases with learning (Fig 8)",
-        c_approach_rises)
-
-    def c_away():
-        away = _win(N, "b", "top_away_fix", w.final)
-        alls = _nanmean(_win(N, "b", "top_away_nofix", w.final))
-        m = _nanmean(away)
-        return (f"{w.label(w.final)}: P(away | fixated) {_ms(away)} (non-fixated {alls:.2f})",
-                _verdict(0.15 <= m <= 0.35, 0.10 <= m <= 0.45))
-    add("away-25", "3 Stereotyped approach", "Even near the end of training roughly 25% of "
-        "movements are directed away from the target", c_away)
-
-    intact = [r["intact"] for r in lesion]
-    lesioned = [r["lesioned"] for r in lesion]
-
-    def c_stereotyped():
-        if not intact:
-            raise ValueError("no normal runs to test")
-        ratio = np.array([s.start_spread_body / s.trial_start_spread_body for s in intact])
-        return (f"reach-start spread (body frame, intact) is {_ms(ratio)} x the spread of hand "
-                f"positions at trial start; mean {_fmt(_nanmean([s.start_spread_body for s in intact]), 1)}"
-                f" units, start radius {_fmt(_nanmean([s.start_radius for s in intact]), 1)}",
-                _verdict(_nanmean(ratio) < 0.5, _nanmean(ratio) < 0.8))
-    add("stereotyped-start", "3 Stereotyped approach", "Direct reaches are preceded by a "
-        "stereotyped preparatory movement that brings the hand back to the same initial position",
-        c_stereotyped)
-
-    def c_lesion_disorganised():
-        if not intact:
-            raise ValueError("no normal runs")
-        pairs = [("approach probability", "approach_prob", -1), ("path efficiency",
-                 "path_efficiency", -1), ("turning per cycle", "turning", +1),
-                 ("success rate", "success_rate", -1)]
-        parts, worse = [], 0
-        for label, attr, sign in pairs:
-            a = _nanmean([getattr(s, attr) for s in intact])
-            b = _nanmean([getattr(s, attr) for s in lesioned])
-            worse += int(sign * (b - a) > 0)
-            parts.append(f"{label} {_fmt(a)} -> {_fmt(b)}")
-        return ("intact -> lesioned: " + "; ".join(parts),
-                _verdict(worse == len(pairs), worse >= 2))
-    add("lesion-disorganised", "3 Stereotyped approach", "Severing the proprioceptive inputs "
-        "after training disrupts approach movements (jerky, disorganised)",
-        c_lesion_disorganised)
-
-    def c_lesion_start():
-        if not intact:
-            raise ValueError("no normal runs")
-        a = np.array([s.start_spread_body for s in intact])
-        b = np.array([s.start_spread_body for s in lesioned])
-        frac = _share_below(a, b)
-        return (f"reach-start spread (body frame) intact {_ms(a, 1)} vs lesioned {_ms(b, 1)} "
-                f"units; larger after the lesion in {frac:.0%} of runs",
-                _verdict(frac >= 0.7, _nanmean(b) > _nanmean(a)))
-    add("lesion-start", "3 Stereotyped approach", "After the lesion, reaches are no longer "
-        "initiated from the same position", c_lesion_start)
-
-    # ---- 4 movement slowdown (Figures 8, 9)
-    def c_random_half():
-        r = _nanmean(_curve(R, "b", "top_approach_fix"), axis=1)
-        m = _nanmean(r)
-        return (f"random P(approach | fixated) over all generations {_ms(r, 3)}",
-                _verdict(abs(m - CHANCE) <= 0.05, abs(m - CHANCE) <= 0.1))
-    add("random-chance", "4 Movement slowdown", "The probability of an approach movement at "
-        "random (random condition) is 0.5 (Fig 8)", c_random_half)
-
-    def c_nofix_early():
-        v = _win(N, "b", "top_approach_nofix", w.early)
-        m, se = _nanmean(v), _nanstd(v) / np.sqrt(max(np.isfinite(v).sum(), 1))
-        return (f"{w.label(w.early)}: P(approach | not fixated) {_ms(v)}",
-                _verdict(m - 2 * se > CHANCE, m > CHANCE))
-    add("nofix-above-chance", "4 Movement slowdown", "Initially, approach movements during "
-        "non-fixation are above chance (arm entrained with eye rotation) (Fig 8)", c_nofix_early)
-
-    def c_nofix_late():
-        v0 = _nanmean(_win(N, "b", "top_approach_nofix", w.early))
-        v = _win(N, "b", "top_approach_nofix", w.final)
-        m = _nanmean(v)
-        return (f"{w.label(w.final)}: P(approach | not fixated) {_ms(v)} (early {v0:.2f})",
-                _verdict(abs(m - CHANCE) <= 0.05, m < v0))
-    add("nofix-to-chance", "4 Movement slowdown", "Non-fixated approach probability later "
-        "declines to chance level (Fig 8)", c_nofix_late)
-
-    def c_fix_below():
-        curve = mean_curve(N, "b", "top_approach_fix")[w.first_quarter]
-        v = _win(N, "b", "top_approach_fix", w.first_quarter)
-        frac = float(np.nanmean(curve < CHANCE))
-        return (f"{w.label(w.first_quarter)}: P(approach | fixated) {_ms(v)}; run-mean below "
-                f"0.5 in {frac:.0%} of these generations",
-                _verdict(_nanmean(v) < CHANCE and frac >= 0.8, _nanmean(v) < CHANCE or frac >= 0.5))
-    add("fix-below-chance", "4 Movement slowdown", "Fixated approach movements remain below "
-        "chance during the first 50 generations (sight of the object suppresses approach)",
-        c_fix_below)
-
-    def c_fix_rises():
-        v0 = _nanmean(_win(N, "b", "top_approach_fix", w.first_quarter))
-        v = _win(N, "b", "top_approach_fix", w.final)
-        return (f"P(approach | fixated) {v0:.2f} ({w.label(w.first_quarter)}) -> {_ms(v)} "
-                f"({w.label(w.final)})",
-                _verdict(_nanmean(v) > v0 + 0.05 and _nanmean(v) > CHANCE, _nanmean(v) > v0 + 0.02))
-    add("fix-rises", "4 Movement slowdown", "After the initial decline, fixated approach "
-        "movements steadily increase (Fig 8)", c_fix_rises)
-
-    def slowdown(kind):
-        def fn():
-            curve = _smooth(mean_curve(N, "b", f"top_{kind}_speed_fix"), max(1, G // 40))
-            start = float(curve[0])
-            i = int(np.nanargmin(curve[w.first_quarter]))
-            low = float(curve[i])
-            final = float(np.nanmean(curve[w.final]))
-            unit = "units" if kind == "hand" else "deg"
-            return (f"{kind} speed during fixation {start:.2f} {unit}/cycle at start, min "
-                    f"{low:.2f} at gen {i}, final {final:.2f}",
-                    _verdict(low <= 0.85 * start and i > 0, low < 0.95 * start and i > 0))
-        return fn
-    add("hand-slowdown", "4 Movement slowdown", "Sight of the object is associated with an "
-        "early slowdown of hand movements (Fig 9a)", slowdown("hand"))
-    add("eye-slowdown", "4 Movement slowdown", "... and of head/eye movements (Fig 9b)",
-        slowdown("eye"))
-
-    def c_temporary():
-        parts, ok = [], 0
-        for kind in ("hand", "eye"):
-            curve = _smooth(mean_curve(N, "b", f"top_{kind}_speed_fix"), max(1, G // 40))
-            i = int(np.nanargmin(curve[w.first_quarter]))
-            low = float(curve[i])
-            final = float(np.nanmean(curve[w.final]))
-            dipped = i > 0 and low < 0.95 * float(curve[0])
-            ok += int(dipped and final > 1.1 * low)
-            parts.append(f"{kind} {low:.2f} -> {final:.2f}" + ("" if dipped else " (no early dip)"))
-        return ("early minimum -> final speed: " + "; ".join(parts), _verdict(ok == 2, ok >= 1))
-    add("slowdown-temporary", "4 Movement slowdown", "The slowdown is early and short-lived "
-        "(speeds recover later)", c_temporary)
-
-    def c_explanation():
-        a0 = _nanmean(_curve(N, "b", "top_away_fix")[:, :max(1, G // 40)])
-        a1 = _nanmean(_win(N, "b", "top_away_fix", w.first_quarter))
-        s0 = _nanmean(_curve(N, "b", "top_hand_speed_fix")[:, :max(1, G // 40)])
-        s1 = _nanmean(_win(N, "b", "top_hand_speed_fix", w.first_quarter))
-        return (f"P(away | fixated) {a0:.2f} -> {a1:.2f} while fixated hand speed {s0:.2f} -> "
-                f"{s1:.2f} (start -> {w.label(w.first_quarter)})",
-                _verdict(s1 < 0.95 * s0 and a1 <= a0 + 0.02, s1 < 0.95 * s0 or a1 <= a0))
-    add("less-movement", "4 Movement slowdown", "The early dip in fixated approach reflects "
-        "less movement overall (explanation a), not more movement away (b)", c_explanation)
-    return claims
-
-
-def _smooth(curve: np.ndarray, k: int) -> np.ndarray:
-    if k <= 1:
-        return curve
-    out = np.array(curve, dtype=float)
-    for i in range(len(curve)):
-        out[i] = _nanmean(curve[max(0, i - k + 1):i + 1])
-    return out
-
-
-def _cycles(d: ConditionData) -> int:
-    from ..runs import RunData
-    return RunData(d.run_dirs[0]).config.evolution.cycles
-
-
-def _trials(d: ConditionData) -> int:
-    from ..runs import RunData
-    return RunData(d.run_dirs[0]).config.evolution.trials
 
 
 # -- figures ------------------------------------------------------------------------------------------
-def _band(ax, data: ConditionData, source: str, column: str, label: str, color: str,
+def _band(ax, data: ConditionData, column: str, label: str, color: str,
           style: str = "-") -> None:
     if data is None or not data.n_runs:
         return
-    values = _curve(data, source, column)
+    values = per_run(data, column)
     if not len(values):
         return
-    mean, sd = _nanmean(values, axis=0), _nanstd(values, axis=0)
+    mean, sd = nanmean(values, axis=0), nanstd(values, axis=0)
     x = np.arange(values.shape[1])
     ax.plot(x, mean, style, color=color, label=f"{label} (N={data.n_runs})", lw=1.3)
     ax.fill_between(x, mean - sd, mean + sd, color=color, alpha=0.18, lw=0)
@@ -533,7 +54,7 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
     for ax, (col, title) in zip(axes.ravel(), panels):
         for cond, d in base.items():
             if d.n_runs:
-                _band(ax, d, "m", col, cond, COLORS[cond])
+                _band(ax, d, col, cond, COLORS[cond])
         ax.set_title(title)
         ax.set_xlabel("generation")
     axes[0, 0].legend(fontsize=8)
@@ -543,7 +64,7 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
     # Figures 4 and 5
     for joint, name, num in (("shoulder", "fig4_shoulder_flexion", 4),
                              ("elbow", "fig5_elbow_flexion", 5)):
-        values = (_curve(N, "b", f"all_{joint}_flexion") if N is not None and N.n_runs
+        values = (per_run(N, f"all_{joint}_flexion") if N is not None and N.n_runs
                   else np.zeros((0, G)))
         n = max(1, values.shape[0])
         cols = min(5, n)
@@ -565,8 +86,8 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
     # Figure 7 (and 6: the activation space schematic with our final-generation means)
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
     for ax, joint, tag in zip(axes, ("shoulder", "elbow"), ("(a)", "(b)")):
-        _band(ax, N, "b", f"top_{joint}_coact", "coactivation", "tab:green")
-        _band(ax, N, "b", f"top_{joint}_recip", "reciprocal", "tab:red")
+        _band(ax, N, f"top_{joint}_coact", "coactivation", "tab:green")
+        _band(ax, N, f"top_{joint}_recip", "reciprocal", "tab:red")
         ax.set_title(f"{tag} {joint}: mean deviation from ideal pattern")
         ax.set_xlabel("generation")
         ax.legend(fontsize=8)
@@ -590,10 +111,10 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
 
     # Figure 8
     fig, ax = plt.subplots(figsize=(7, 4))
-    _band(ax, N, "b", "top_approach_fix", "normal, fixation", "tab:blue")
-    _band(ax, N, "b", "top_approach_nofix", "normal, non-fixation", "tab:cyan", "--")
+    _band(ax, N, "top_approach_fix", "normal, fixation", "tab:blue")
+    _band(ax, N, "top_approach_nofix", "normal, non-fixation", "tab:cyan", "--")
     if R is not None and R.n_runs:
-        _band(ax, R, "b", "top_approach_fix", "random, fixation", "tab:gray")
+        _band(ax, R, "top_approach_fix", "random, fixation", "tab:gray")
     ax.axhline(CHANCE, color="k", lw=0.6, ls=":")
     ax.set_xlabel("generation")
     ax.set_ylabel("P(approach movement)")
@@ -605,9 +126,9 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
     for ax, kind, tag, unit in ((axes[0], "hand", "(a) hand", "units/cycle"),
                                 (axes[1], "eye", "(b) head/eye", "deg/cycle")):
-        _band(ax, N, "b", f"top_{kind}_speed_fix", "normal", "tab:blue")
+        _band(ax, N, f"top_{kind}_speed_fix", "normal", "tab:blue")
         if R is not None and R.n_runs:
-            _band(ax, R, "b", f"top_{kind}_speed_fix", "random", "tab:gray")
+            _band(ax, R, f"top_{kind}_speed_fix", "random", "tab:gray")
         ax.set_title(f"{tag} speed during fixation")
         ax.set_ylabel(unit)
         ax.set_xlabel("generation")
@@ -661,10 +182,10 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
         for i, (name, group) in enumerate(groups.items()):
             d = group.get("normal")
             if d is not None and d.n_runs:
-                _band(axes[0], d, "m", "top_fitness", f"normal, {name}", palette[i % 5])
-                _band(axes[1], d, "b", "top_approach_fix", f"normal, {name}", palette[i % 5])
+                _band(axes[0], d, "top_fitness", f"normal, {name}", palette[i % 5])
+                _band(axes[1], d, "top_approach_fix", f"normal, {name}", palette[i % 5])
             if name != "base" and "three-layer" in group and group["three-layer"].n_runs:
-                _band(axes[0], group["three-layer"], "m", "top_fitness", f"three-layer, {name}",
+                _band(axes[0], group["three-layer"], "top_fitness", f"three-layer, {name}",
                       palette[i % 5], "--")
         axes[0].set_title("top-20 fitness")
         axes[1].set_title("P(approach | fixated)")
@@ -700,7 +221,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     for name, group in groups.items():
         merged = dict(groups["base"])
         merged.update(group)
-        claims[name] = evaluate_claims(merged, lesions[name], G)
+        claims[name] = evaluate(merged, lesions[name], G)
     files = make_figures(groups, lesions["base"], figures, G)
     rel = {k: os.path.relpath(v, report.parent) for k, v in files.items()}
     report.write_text(_markdown(spec, groups, claims, lesions, notes, rel, G, out),
@@ -738,8 +259,7 @@ def _markdown(spec: StudySpec, groups, claims, lesions, notes, figs, G, out) -> 
 
     L.append("## Claims of the paper's Results section vs our measurements\n")
     L.append(_claims_table(claims["base"]))
-    tally = {v: sum(c.verdict == v for c in claims["base"])
-             for v in ("replicates", "partly", "does not", "n/a")}
+    tally = {v: sum(c.verdict == v for c in claims["base"]) for v in VERDICTS}
     L.append("\nTally: " + ", ".join(f"{k} {v}" for k, v in tally.items()) + ".\n")
 
     L.append("## Overall performance (Figure 3)\n")
@@ -756,9 +276,9 @@ def _markdown(spec: StudySpec, groups, claims, lesions, notes, figs, G, out) -> 
     L.append("|---|---|---|---|---|---|---|")
     if "normal" in base and base["normal"].n_runs:
         for r in joint_table(base["normal"], w):
-            L.append(f"| {r['run']} | {_fmt(r['shoulder_flexion'], 1)} | "
-                     f"{_fmt(r['shoulder_angle'], 0)} | {r['position']} | "
-                     f"{_fmt(r['lock_generation'], 0)} | {_fmt(r['elbow_flexion'], 1)} | "
+            L.append(f"| {r['run']} | {fmt(r['shoulder_flexion'], 1)} | "
+                     f"{fmt(r['shoulder_angle'], 0)} | {r['position']} | "
+                     f"{fmt(r['lock_generation'], 0)} | {fmt(r['elbow_flexion'], 1)} | "
                      f"{'compliant' if r['elbow_compliant'] else 'dominated'} |")
     L.append("")
     L.append("## 2 Muscle coactivation (Figures 6 and 7)\n")
@@ -792,11 +312,11 @@ def _markdown(spec: StudySpec, groups, claims, lesions, notes, figs, G, out) -> 
         L.append("| claim | " + " | ".join(names) + " |")
         L.append("|---|" + "---|" * len(names))
         for i, c in enumerate(claims["base"]):
-            L.append(f"| {c.key} | " + " | ".join(claims[n][i].verdict for n in names) + " |")
+            L.append(f"| {c.claim.key} | " + " | ".join(claims[n][i].verdict for n in names) + " |")
         L.append("")
-        robust = [c.key for i, c in enumerate(claims["base"])
+        robust = [c.claim.key for i, c in enumerate(claims["base"])
                   if len({claims[n][i].verdict for n in names}) == 1]
-        fragile = [c.key for i, c in enumerate(claims["base"])
+        fragile = [c.claim.key for i, c in enumerate(claims["base"])
                    if len({claims[n][i].verdict for n in names}) > 1]
         L.append(f"Same verdict under every setting: {', '.join(robust) or 'none'}.\n")
         L.append(f"Verdict depends on the setting: {', '.join(fragile) or 'none'}.\n")
@@ -809,11 +329,11 @@ def _markdown(spec: StudySpec, groups, claims, lesions, notes, figs, G, out) -> 
     return "\n".join(L) + "\n"
 
 
-def _claims_table(claims: list[Claim]) -> str:
+def _claims_table(claims: list[ClaimResult]) -> str:
     rows = ["| # | section | paper's claim | our measurement | verdict |",
             "|---|---|---|---|---|"]
     for i, c in enumerate(claims, 1):
-        rows.append(f"| {i} | {c.section} | {c.paper} | {c.ours.replace('|', '/')} | "
+        rows.append(f"| {i} | {c.claim.section} | {c.claim.paper} | {c.ours.replace('|', '/')} | "
                     f"**{c.verdict}** |")
     return "\n".join(rows) + "\n"
 
@@ -834,8 +354,5 @@ def _lesion_table(lesion: list[dict]) -> str:
     for attr, label, digits in fields:
         a = [getattr(r["intact"], attr) for r in lesion]
         b = [getattr(r["lesioned"], attr) for r in lesion]
-        rows.append(f"| {label} | {_ms(a, digits)} | {_ms(b, digits)} |")
+        rows.append(f"| {label} | {mean_sd(a, digits)} | {mean_sd(b, digits)} |")
     return "\n".join(rows) + "\n"
-
-
-__all__ = ["build_report", "evaluate_claims", "lesion_study", "joint_table", "ReachSummary"]
