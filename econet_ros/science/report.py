@@ -1,204 +1,18 @@
-"""Figures and the Markdown report of a study folder (see study.py): every claim of the paper's
-Results section (claims.py) next to our measurement and a verdict. Definitions: docs/analysis.md."""
+"""The Markdown report of a study folder (see study.py): every claim of the paper's Results
+section (claims.py) next to our measurement and a verdict, with the figures (figures.py).
+Definitions: docs/analysis.md."""
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-import numpy as np
-
 from .claims import LOCK, VERDICTS, ClaimResult, evaluate, joint_table
+from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
-from .measures import CHANCE
-from .series import Windows, fmt, mean_sd, nanmean, nanstd, per_run
-from .study import ConditionData, StudySpec, load_study
-
-COLORS = {"normal": "tab:blue", "three-layer": "tab:orange", "random": "tab:gray"}
+from .series import Windows, fmt, mean_sd
+from .study import StudySpec, load_study
 
 
-# -- figures ------------------------------------------------------------------------------------------
-def _band(ax, data: ConditionData, column: str, label: str, color: str,
-          style: str = "-") -> None:
-    if data is None or not data.n_runs:
-        return
-    values = per_run(data, column)
-    if not len(values):
-        return
-    mean, sd = nanmean(values, axis=0), nanstd(values, axis=0)
-    x = np.arange(values.shape[1])
-    ax.plot(x, mean, style, color=color, label=f"{label} (N={data.n_runs})", lw=1.3)
-    ax.fill_between(x, mean - sd, mean + sd, color=color, alpha=0.18, lw=0)
-
-
-def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figures.mkdir(parents=True, exist_ok=True)
-    base = groups["base"]
-    N, R = base.get("normal"), base.get("random")
-    files = {}
-
-    def save(fig, name):
-        fig.tight_layout()
-        path = figures / f"{name}.png"
-        fig.savefig(path, dpi=110)
-        plt.close(fig)
-        files[name] = path
-
-    # Figure 3
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
-    panels = [("top_fitness", "(a) fitness"), ("top_successes", "(b) successful trials"),
-              ("top_latency", "(c) latency (cycles)"), ("top_separations", "(d) separations")]
-    for ax, (col, title) in zip(axes.ravel(), panels):
-        for cond, d in base.items():
-            if d.n_runs:
-                _band(ax, d, col, cond, COLORS[cond])
-        ax.set_title(title)
-        ax.set_xlabel("generation")
-    axes[0, 0].legend(fontsize=8)
-    fig.suptitle("Figure 3: top-20 performance per generation (mean ± 1 s.d. over runs)")
-    save(fig, "fig3_performance")
-
-    # Figures 4 and 5
-    for joint, name, num in (("shoulder", "fig4_shoulder_flexion", 4),
-                             ("elbow", "fig5_elbow_flexion", 5)):
-        values = (per_run(N, f"all_{joint}_flexion") if N is not None and N.n_runs
-                  else np.zeros((0, G)))
-        n = max(1, values.shape[0])
-        cols = min(5, n)
-        rows = int(np.ceil(n / cols))
-        fig, axes = plt.subplots(rows, cols, figsize=(2.4 * cols, 2.0 * rows + 0.6),
-                                 sharex=True, sharey=True, squeeze=False)
-        for i, ax in enumerate(axes.ravel()):
-            if i >= values.shape[0]:
-                ax.axis("off")
-                continue
-            ax.plot(values[i], color="tab:blue", lw=1)
-            ax.axhline(50, color="k", lw=0.5, ls=":")
-            ax.set_ylim(-3, 103)
-            ax.set_title(N.run_dirs[i].name.replace("run-", "run "), fontsize=9)
-        fig.suptitle(f"Figure {num}: % of pre-contact cycles with {joint} flexion "
-                     "(flexor > extensor), all econets")
-        save(fig, name)
-
-    # Figure 7 (and 6: the activation space schematic with our final-generation means)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
-    for ax, joint, tag in zip(axes, ("shoulder", "elbow"), ("(a)", "(b)")):
-        _band(ax, N, f"top_{joint}_coact", "coactivation", "tab:green")
-        _band(ax, N, f"top_{joint}_recip", "reciprocal", "tab:red")
-        ax.set_title(f"{tag} {joint}: mean deviation from ideal pattern")
-        ax.set_xlabel("generation")
-        ax.legend(fontsize=8)
-    fig.suptitle("Figure 7: deviation from ideal coactivation / reciprocal activation, "
-                 "top 20, before first contact")
-    save(fig, "fig7_coactivation")
-
-    fig, ax = plt.subplots(figsize=(4.2, 4.2))
-    ax.plot([0, 1], [0, 1], "g-", label="ideal coactivation (f = e)")
-    ax.plot([0, 1], [1, 0], "r-", label="ideal reciprocal (f + e = 1)")
-    f, e = 0.8, 0.45
-    ax.plot([f], [e], "ko")
-    ax.plot([f, (f + e) / 2], [e, (f + e) / 2], "g--")
-    ax.plot([f, (f - e + 1) / 2], [e, (e - f + 1) / 2], "r--")
-    ax.set_xlabel("flexor activation f")
-    ax.set_ylabel("extensor activation e")
-    ax.set_aspect("equal")
-    ax.legend(fontsize=7, loc="upper left")
-    ax.set_title("Figure 6: activation space")
-    save(fig, "fig6_activation_space")
-
-    # Figure 8
-    fig, ax = plt.subplots(figsize=(7, 4))
-    _band(ax, N, "top_approach_fix", "normal, fixation", "tab:blue")
-    _band(ax, N, "top_approach_nofix", "normal, non-fixation", "tab:cyan", "--")
-    if R is not None and R.n_runs:
-        _band(ax, R, "top_approach_fix", "random, fixation", "tab:gray")
-    ax.axhline(CHANCE, color="k", lw=0.6, ls=":")
-    ax.set_xlabel("generation")
-    ax.set_ylabel("P(approach movement)")
-    ax.legend(fontsize=8)
-    ax.set_title("Figure 8: probability of an approach movement (top 20, pre-contact)")
-    save(fig, "fig8_approach")
-
-    # Figure 9
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    for ax, kind, tag, unit in ((axes[0], "hand", "(a) hand", "units/cycle"),
-                                (axes[1], "eye", "(b) head/eye", "deg/cycle")):
-        _band(ax, N, f"top_{kind}_speed_fix", "normal", "tab:blue")
-        if R is not None and R.n_runs:
-            _band(ax, R, f"top_{kind}_speed_fix", "random", "tab:gray")
-        ax.set_title(f"{tag} speed during fixation")
-        ax.set_ylabel(unit)
-        ax.set_xlabel("generation")
-        ax.legend(fontsize=8)
-    fig.suptitle("Figure 9: movement speed while the object is fixated (top 20, pre-contact)")
-    save(fig, "fig9_speed")
-
-    # Lesion
-    if lesion:
-        fig, axes = plt.subplots(2, 2, figsize=(9, 9))
-        first = lesion[0]
-        for col, kind in enumerate(("intact", "lesioned")):
-            tr = first["traces"][kind]
-            ax = axes[0, col]
-            for env in range(min(LESION_TRIALS, 10)):    # the best econet's first trials
-                stop = int(np.argmax(tr.touch[:, env])) if tr.touch[:, env].any() else \
-                    tr.touch.shape[0] - 1
-                path = tr.hand[:stop + 1, env]
-                ax.plot(path[:, 0], path[:, 1], "-", lw=0.8)
-                ax.plot(*path[0], "k.", ms=4)
-                ax.add_patch(plt.Circle(tr.object_xy[env], first["radius"], color="r",
-                                        alpha=0.6))
-            ax.plot(0, 0, "k+", ms=10)
-            ax.set_aspect("equal")
-            ax.set_xlim(-55, 55)
-            ax.set_ylim(-55, 55)
-            ax.set_title(f"{kind}: hand paths to first contact\n({first['run']}, best econet, "
-                         "10 trials)", fontsize=9)
-            from .measures import body_frame, reach_starts
-            ax = axes[1, col]
-            for item in lesion:
-                t = item["traces"][kind]
-                starts, valid = reach_starts(t)
-                envs = np.flatnonzero(valid)
-                if len(envs):
-                    pts = body_frame(t, starts[envs], envs)
-                    ax.plot(pts[:, 0], pts[:, 1], ".", ms=2, alpha=0.4)
-            ax.plot(0, 0, "k+", ms=10)
-            ax.set_aspect("equal")
-            ax.set_xlim(-55, 55)
-            ax.set_ylim(-55, 55)
-            ax.set_title(f"{kind}: reach-start hand positions, body frame\n(gaze along +x; "
-                         "colour = run)", fontsize=9)
-        fig.suptitle("Proprioceptive lesion: final top-20 econets of every normal run")
-        save(fig, "lesion")
-
-    # Sensitivity: fitness of the normal condition per variant
-    if len(groups) > 1:
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-        palette = ["tab:blue", "tab:green", "tab:purple", "tab:brown", "tab:olive"]
-        for i, (name, group) in enumerate(groups.items()):
-            d = group.get("normal")
-            if d is not None and d.n_runs:
-                _band(axes[0], d, "top_fitness", f"normal, {name}", palette[i % 5])
-                _band(axes[1], d, "top_approach_fix", f"normal, {name}", palette[i % 5])
-            if name != "base" and "three-layer" in group and group["three-layer"].n_runs:
-                _band(axes[0], group["three-layer"], "top_fitness", f"three-layer, {name}",
-                      palette[i % 5], "--")
-        axes[0].set_title("top-20 fitness")
-        axes[1].set_title("P(approach | fixated)")
-        axes[1].axhline(CHANCE, color="k", lw=0.6, ls=":")
-        for ax in axes:
-            ax.set_xlabel("generation")
-            ax.legend(fontsize=7)
-        fig.suptitle("Sensitivity: base assumptions vs variants")
-        save(fig, "sensitivity")
-    return files
-
-
-# -- the report -----------------------------------------------------------------------------------------
 def build_report(out: Path, report: Path | None = None, figures: Path | None = None
                  ) -> tuple[Path, list[str]]:
     """Analyse a study folder and write the report and figures; returns (report path, notes
@@ -222,7 +36,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
         merged = dict(groups["base"])
         merged.update(group)
         claims[name] = evaluate(merged, lesions[name], G)
-    files = make_figures(groups, lesions["base"], figures, G)
+    files = make_figures(groups, lesions["base"], figures)
     rel = {k: os.path.relpath(v, report.parent) for k, v in files.items()}
     report.write_text(_markdown(spec, groups, claims, lesions, notes, rel, G, out),
                       encoding="utf-8")
