@@ -4,169 +4,220 @@ Definitions: docs/analysis.md."""
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
 
 from .claims import LOCK, VERDICTS, ClaimResult, evaluate, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
 from .series import Windows, fmt, mean_sd
-from .study import StudySpec, load_study
+from .study import ConditionData, StudySpec, load_study
+
+
+@dataclass
+class Analysis:
+    """What the report shows about one study folder."""
+
+    out: Path
+    spec: StudySpec
+    groups: dict[str, dict[str, ConditionData]]    # "base" and each sensitivity variant
+    notes: list[str]                               # gaps of an incomplete study
+    lesions: dict[str, list[dict]]                 # per group: lesion test of its normal runs
+    claims: dict[str, list[ClaimResult]]           # per group
+    figures: dict[str, str]                        # name -> path relative to the report
+
+    @property
+    def windows(self) -> Windows:
+        return Windows(self.spec.config.evolution.generations)
 
 
 def build_report(out: Path, report: Path | None = None, figures: Path | None = None
                  ) -> tuple[Path, list[str]]:
     """Analyse a study folder and write the report and figures; returns (report path, notes
-    about gaps). Raises study.StudyError for folders that cannot be analysed."""
+    about gaps). Raises errors.ResultsError for folders that cannot be analysed."""
     out = Path(out)
     spec, groups = load_study(out)
     report = Path(report) if report else out / "report.md"
     figures = Path(figures) if figures else report.parent / "figures"
     report.parent.mkdir(parents=True, exist_ok=True)
-    G = spec.config.evolution.generations
-
-    notes = []
-    for gname, group in groups.items():
-        for cond, d in group.items():
-            for p in d.problems:
-                notes.append(f"{'' if gname == 'base' else gname + ' / '}{cond}: {p}")
     lesions = {name: lesion_study(group["normal"].run_dirs) if "normal" in group else []
                for name, group in groups.items()}
-    claims = {}
-    for name, group in groups.items():
-        merged = dict(groups["base"])
-        merged.update(group)
-        claims[name] = evaluate(merged, lesions[name], G)
+    G = spec.config.evolution.generations
+    # a variant holds only the conditions it re-ran; the others come from the base study
+    claims = {name: evaluate({**groups["base"], **group}, lesions[name], G)
+              for name, group in groups.items()}
     files = make_figures(groups, lesions["base"], figures)
-    rel = {k: os.path.relpath(v, report.parent) for k, v in files.items()}
-    report.write_text(_markdown(spec, groups, claims, lesions, notes, rel, G, out),
-                      encoding="utf-8")
-    return report, notes
+    analysis = Analysis(out, spec, groups, gaps(groups), lesions, claims,
+                        {k: os.path.relpath(v, report.parent) for k, v in files.items()})
+    report.write_text(markdown(analysis), encoding="utf-8")
+    return report, analysis.notes
 
 
-def _markdown(spec: StudySpec, groups, claims, lesions, notes, figs, G, out) -> str:
-    e, net, m = spec.config.evolution, spec.config.network, spec.config.model
-    base = groups["base"]
-    L = []
-    L.append("# Reproducing Schlesinger, Parisi & Langer (2000): results report\n")
-    L.append(f"Made by `econet analyze {out}` from the study folder `{out}` "
-             f"(`econet study` = `scripts/run`). Measures are defined in "
-             "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n")
-    L.append("## Settings\n")
-    L.append(f"- {spec.runs} runs per condition, {G} generations, population {e.population}, "
-             f"{e.parents} parents, {e.trials} trials x {e.cycles} cycles, base seed {spec.seed}")
-    L.append(f"- four-layer hidden sizes {net.visual_hidden} (visual) / {net.proprio_hidden} "
-             f"(proprioceptive) / {net.intermodal_hidden} (intermodal); three-layer hidden "
-             f"{net.three_layer_hidden}; object radius {m.object_radius:g}; start posture "
-             f"{m.start_posture}; mutation {e.mutation_mode} {e.mutation_rate:g}")
-    L.append("- all curves: mean over runs, band = ±1 s.d. over runs; top 20 = the econets "
-             "selected for reproduction in that generation\n")
-    L.append("## Completeness\n")
-    if notes:
-        L.append("**This study is incomplete; every number below uses only the data present.** "
-                 "Gaps:\n")
-        L.extend(f"- {n}" for n in notes)
-        L.append("\nRun the same `econet study` command again to finish it.\n")
+def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
+    """Every missing run or generation, named by variant and condition."""
+    return [f"{'' if name == 'base' else name + ' / '}{condition}: {problem}"
+            for name, group in groups.items() for condition, data in group.items()
+            for problem in data.problems]
+
+
+def markdown(a: Analysis) -> str:
+    sections = (_title, _settings, _completeness, _claims, _performance, _joint_locking,
+                _coactivation, _approach, _slowdown, _sensitivity)
+    return "\n".join(line for section in sections for line in section(a)) + "\n"
+
+
+def _title(a: Analysis) -> list[str]:
+    return ["# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
+            f"Made by `econet analyze {a.out}` from the study folder `{a.out}` "
+            "(`econet study` = `scripts/run`). Measures are defined in "
+            "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n"]
+
+
+def _settings(a: Analysis) -> list[str]:
+    e, net, m = a.spec.config.evolution, a.spec.config.network, a.spec.config.model
+    return ["## Settings\n",
+            f"- {a.spec.runs} runs per condition, {e.generations} generations, population "
+            f"{e.population}, {e.parents} parents, {e.trials} trials x {e.cycles} cycles, base "
+            f"seed {a.spec.seed}",
+            f"- four-layer hidden sizes {net.visual_hidden} (visual) / {net.proprio_hidden} "
+            f"(proprioceptive) / {net.intermodal_hidden} (intermodal); three-layer hidden "
+            f"{net.three_layer_hidden}; object radius {m.object_radius:g}; start posture "
+            f"{m.start_posture}; mutation {e.mutation_mode} {e.mutation_rate:g}",
+            "- all curves: mean over runs, band = ±1 s.d. over runs; top 20 = the econets "
+            "selected for reproduction in that generation\n"]
+
+
+def _completeness(a: Analysis) -> list[str]:
+    if a.notes:
+        status = ["**This study is incomplete; every number below uses only the data present.** "
+                  "Gaps:\n", *(f"- {n}" for n in a.notes),
+                  "\nRun the same `econet study` command again to finish it.\n"]
     else:
-        L.append("All runs of all conditions are complete.\n")
-    counts = ", ".join(f"{c}: {d.n_runs} runs" for c, d in base.items())
-    L.append(f"Runs found: {counts}.\n")
-
-    L.append("## Claims of the paper's Results section vs our measurements\n")
-    L.append(_claims_table(claims["base"]))
-    tally = {v: sum(c.verdict == v for c in claims["base"]) for v in VERDICTS}
-    L.append("\nTally: " + ", ".join(f"{k} {v}" for k, v in tally.items()) + ".\n")
-
-    L.append("## Overall performance (Figure 3)\n")
-    L.append(f"![Figure 3]({figs['fig3_performance']})\n")
-    L.append("## 1 Joint locking (Figures 4 and 5)\n")
-    L.append(f"![Figure 4]({figs['fig4_shoulder_flexion']})\n")
-    L.append(f"![Figure 5]({figs['fig5_elbow_flexion']})\n")
-    w = Windows(G)
-    L.append(f"Per run, {w.label(w.final)}, all econets, cycles before first contact "
-             f"(locked = flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}%; position from the mean "
-             "shoulder angle: >= 135 deg extended, <= 45 deg flexed):\n")
-    L.append("| run | shoulder flexion % | shoulder angle (deg) | shoulder | locked from gen | "
-             "elbow flexion % | elbow |")
-    L.append("|---|---|---|---|---|---|---|")
-    if "normal" in base and base["normal"].n_runs:
-        for r in joint_table(base["normal"], w):
-            L.append(f"| {r['run']} | {fmt(r['shoulder_flexion'], 1)} | "
-                     f"{fmt(r['shoulder_angle'], 0)} | {r['position']} | "
-                     f"{fmt(r['lock_generation'], 0)} | {fmt(r['elbow_flexion'], 1)} | "
-                     f"{'compliant' if r['elbow_compliant'] else 'dominated'} |")
-    L.append("")
-    L.append("## 2 Muscle coactivation (Figures 6 and 7)\n")
-    L.append(f"![Figure 6]({figs['fig6_activation_space']})\n")
-    L.append(f"![Figure 7]({figs['fig7_coactivation']})\n")
-    L.append("## 3 Stereotyped approach movements and the lesion (Figure 8)\n")
-    L.append(f"![Figure 8]({figs['fig8_approach']})\n")
-    if "lesion" in figs:
-        L.append(f"![Lesion]({figs['lesion']})\n")
-    L.append(_lesion_table(lesions["base"]))
-    L.append("## 4 Movement slowdown (Figure 9)\n")
-    L.append(f"![Figure 9]({figs['fig9_speed']})\n")
-
-    L.append("## Sensitivity to the paper's open assumptions\n")
-    if len(groups) == 1:
-        L.append("No sensitivity variants in this study (run `econet study --sensitivity all` "
-                 "to add them).\n")
-    else:
-        L.append("Each variant re-runs the conditions its setting affects, with the same seeds; "
-                 "conditions it does not affect are taken from the base study (random movement "
-                 "ignores network sizes; the three-layer net ignores the four-layer hidden "
-                 "sizes).\n")
-        for name, changes in spec.variants.items():
-            setting = ", ".join(f"{k}={v}" for k, v in changes.items())
-            ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in groups[name].items())
-            gaps = [p for d in groups[name].values() for p in d.problems]
-            L.append(f"- **{name}**: {setting}; ran {ran}"
-                     + (f"; INCOMPLETE: {'; '.join(gaps)}" if gaps else ""))
-        L.append("")
-        names = list(groups)
-        L.append("| claim | " + " | ".join(names) + " |")
-        L.append("|---|" + "---|" * len(names))
-        for i, c in enumerate(claims["base"]):
-            L.append(f"| {c.claim.key} | " + " | ".join(claims[n][i].verdict for n in names) + " |")
-        L.append("")
-        robust = [c.claim.key for i, c in enumerate(claims["base"])
-                  if len({claims[n][i].verdict for n in names}) == 1]
-        fragile = [c.claim.key for i, c in enumerate(claims["base"])
-                   if len({claims[n][i].verdict for n in names}) > 1]
-        L.append(f"Same verdict under every setting: {', '.join(robust) or 'none'}.\n")
-        L.append(f"Verdict depends on the setting: {', '.join(fragile) or 'none'}.\n")
-        if "sensitivity" in figs:
-            L.append(f"![Sensitivity]({figs['sensitivity']})\n")
-        for name in names[1:]:
-            L.append(f"<details><summary>{name}: measurements</summary>\n")
-            L.append(_claims_table(claims[name]))
-            L.append("\n</details>\n")
-    return "\n".join(L) + "\n"
+        status = ["All runs of all conditions are complete.\n"]
+    counts = ", ".join(f"{c}: {d.n_runs} runs" for c, d in a.groups["base"].items())
+    return ["## Completeness\n", *status, f"Runs found: {counts}.\n"]
 
 
-def _claims_table(claims: list[ClaimResult]) -> str:
+def _claims(a: Analysis) -> list[str]:
+    results = a.claims["base"]
+    tally = ", ".join(f"{v} {sum(r.verdict == v for r in results)}" for v in VERDICTS)
+    return ["## Claims of the paper's Results section vs our measurements\n",
+            _claims_table(results), f"\nTally: {tally}.\n"]
+
+
+def _claims_table(results: list[ClaimResult]) -> str:
     rows = ["| # | section | paper's claim | our measurement | verdict |",
             "|---|---|---|---|---|"]
-    for i, c in enumerate(claims, 1):
-        rows.append(f"| {i} | {c.claim.section} | {c.claim.paper} | {c.ours.replace('|', '/')} | "
-                    f"**{c.verdict}** |")
+    rows += [f"| {i} | {r.claim.section} | {r.claim.paper} | {r.ours.replace('|', '/')} | "
+             f"**{r.verdict}** |" for i, r in enumerate(results, 1)]
     return "\n".join(rows) + "\n"
+
+
+def _performance(a: Analysis) -> list[str]:
+    return ["## Overall performance (Figure 3)\n",
+            f"![Figure 3]({a.figures['fig3_performance']})\n"]
+
+
+def _joint_locking(a: Analysis) -> list[str]:
+    w = a.windows
+    lines = ["## 1 Joint locking (Figures 4 and 5)\n",
+             f"![Figure 4]({a.figures['fig4_shoulder_flexion']})\n",
+             f"![Figure 5]({a.figures['fig5_elbow_flexion']})\n",
+             f"Per run, {w.label(w.final)}, all econets, cycles before first contact "
+             f"(locked = flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}%; position from the mean "
+             "shoulder angle: >= 135 deg extended, <= 45 deg flexed):\n",
+             "| run | shoulder flexion % | shoulder angle (deg) | shoulder | locked from gen | "
+             "elbow flexion % | elbow |",
+             "|---|---|---|---|---|---|---|"]
+    normal = a.groups["base"].get("normal")
+    if normal is not None and normal.n_runs:
+        lines += [f"| {r['run']} | {fmt(r['shoulder_flexion'], 1)} | "
+                  f"{fmt(r['shoulder_angle'], 0)} | {r['position']} | "
+                  f"{fmt(r['lock_generation'], 0)} | {fmt(r['elbow_flexion'], 1)} | "
+                  f"{'compliant' if r['elbow_compliant'] else 'dominated'} |"
+                  for r in joint_table(normal, w)]
+    return lines + [""]
+
+
+def _coactivation(a: Analysis) -> list[str]:
+    return ["## 2 Muscle coactivation (Figures 6 and 7)\n",
+            f"![Figure 6]({a.figures['fig6_activation_space']})\n",
+            f"![Figure 7]({a.figures['fig7_coactivation']})\n"]
+
+
+def _approach(a: Analysis) -> list[str]:
+    lines = ["## 3 Stereotyped approach movements and the lesion (Figure 8)\n",
+             f"![Figure 8]({a.figures['fig8_approach']})\n"]
+    if "lesion" in a.figures:
+        lines.append(f"![Lesion]({a.figures['lesion']})\n")
+    return lines + [_lesion_table(a.lesions["base"])]
+
+
+LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)", 1),
+               ("approach_prob", "P(approach), pre-contact", 2),
+               ("path_efficiency", "path efficiency", 2), ("turning", "turning (deg/cycle)", 1),
+               ("final_approach_cycles", "final approach (cycles)", 1),
+               ("start_spread_body", "reach-start spread, body frame", 1),
+               ("start_spread_world", "reach-start spread, workspace", 1),
+               ("start_radius", "reach-start distance from shoulder", 1)]
 
 
 def _lesion_table(lesion: list[dict]) -> str:
     if not lesion:
         return "No normal runs: no lesion test.\n"
-    fields = [("success_rate", "success rate", 2), ("latency", "latency (cycles)", 1),
-              ("approach_prob", "P(approach), pre-contact", 2),
-              ("path_efficiency", "path efficiency", 2), ("turning", "turning (deg/cycle)", 1),
-              ("final_approach_cycles", "final approach (cycles)", 1),
-              ("start_spread_body", "reach-start spread, body frame", 1),
-              ("start_spread_world", "reach-start spread, workspace", 1),
-              ("start_radius", "reach-start distance from shoulder", 1)]
     rows = [f"Final-generation top-20 econets of {len(lesion)} normal runs, {LESION_TRIALS} fresh "
             "trials each, intact vs proprioceptive inputs severed (mean ± s.d. over runs):\n",
             "| measure | intact | lesioned |", "|---|---|---|"]
-    for attr, label, digits in fields:
-        a = [getattr(r["intact"], attr) for r in lesion]
-        b = [getattr(r["lesioned"], attr) for r in lesion]
-        rows.append(f"| {label} | {mean_sd(a, digits)} | {mean_sd(b, digits)} |")
+    for attr, label, digits in LESION_ROWS:
+        intact = [getattr(r["intact"], attr) for r in lesion]
+        lesioned = [getattr(r["lesioned"], attr) for r in lesion]
+        rows.append(f"| {label} | {mean_sd(intact, digits)} | {mean_sd(lesioned, digits)} |")
     return "\n".join(rows) + "\n"
+
+
+def _slowdown(a: Analysis) -> list[str]:
+    return ["## 4 Movement slowdown (Figure 9)\n", f"![Figure 9]({a.figures['fig9_speed']})\n"]
+
+
+def _sensitivity(a: Analysis) -> list[str]:
+    heading = "## Sensitivity to the paper's open assumptions\n"
+    if len(a.groups) == 1:
+        return [heading, "No sensitivity variants in this study (run `econet study "
+                "--sensitivity all` to add them).\n"]
+    lines = [heading, *_variants(a), "", *_verdicts_by_setting(a)]
+    if "sensitivity" in a.figures:
+        lines.append(f"![Sensitivity]({a.figures['sensitivity']})\n")
+    for name in list(a.groups)[1:]:
+        lines += [f"<details><summary>{name}: measurements</summary>\n",
+                  _claims_table(a.claims[name]), "\n</details>\n"]
+    return lines
+
+
+def _variants(a: Analysis) -> list[str]:
+    """What each variant changes and which conditions it ran."""
+    lines = ["Each variant re-runs the conditions its setting affects, with the same seeds; "
+             "conditions it does not affect are taken from the base study (random movement "
+             "ignores network sizes; the three-layer net ignores the four-layer hidden "
+             "sizes).\n"]
+    for name, changes in a.spec.variants.items():
+        setting = ", ".join(f"{k}={v}" for k, v in changes.items())
+        ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in a.groups[name].items())
+        missing = [p for d in a.groups[name].values() for p in d.problems]
+        lines.append(f"- **{name}**: {setting}; ran {ran}"
+                     + (f"; INCOMPLETE: {'; '.join(missing)}" if missing else ""))
+    return lines
+
+
+def _verdicts_by_setting(a: Analysis) -> list[str]:
+    """One row a claim: its verdict under the base settings and every variant."""
+    names = list(a.claims)
+    per_claim = list(zip(*(a.claims[n] for n in names)))
+    keys = [results[0].claim.key for results in per_claim]
+    rows = [f"| {key} | " + " | ".join(r.verdict for r in results) + " |"
+            for key, results in zip(keys, per_claim)]
+    agreed = [len({r.verdict for r in results}) == 1 for results in per_claim]
+    same = [k for k, ok in zip(keys, agreed) if ok]
+    differ = [k for k, ok in zip(keys, agreed) if not ok]
+    return ["| claim | " + " | ".join(names) + " |", "|---|" + "---|" * len(names), *rows, "",
+            f"Same verdict under every setting: {', '.join(same) or 'none'}.\n",
+            f"Verdict depends on the setting: {', '.join(differ) or 'none'}.\n"]
