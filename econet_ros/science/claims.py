@@ -6,9 +6,10 @@ A measure function takes the Evidence of a group and returns (our measurement in
 verdict); it raises ValueError when a condition it needs has no data ("not measurable")."""
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
-from typing import Callable, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
@@ -46,13 +47,15 @@ class ClaimResult(NamedTuple):
 
 
 def verdict(full: bool, part: bool) -> str:
+    """A rule's full version holds, or only its weaker one, or neither."""
     return "replicates" if full else ("partly" if part else "does not")
 
 
 @dataclass
 class Evidence:
     """What the claims of one study group are judged on: its conditions' per-run series, the
-    lesion test of its normal runs and the generation windows."""
+    lesion test of its normal runs and the generation windows. Claims read their data only
+    through these methods, which raise ValueError for a condition without runs."""
 
     group: dict[str, ConditionData]
     lesion: list[dict]
@@ -471,13 +474,13 @@ CLAIMS = [
     Claim("successes", PERFORMANCE,
           "Three-layer econets average fewer successful trials than four-layer ones (Fig 3b)",
           "replicates: three-layer's final mean is lower and its curve is below normal's in "
-          ">= 75% of generations; partly: either the lower mean or below in >= 50%",
+          ">= 75% of generations; partly: the lower final mean, or the curve below in >= 50%",
           fewer_successes),
     Claim("separations", PERFORMANCE,
           "After reaching the object, three-layer econets lose contact more often than "
           "four-layer ones (Fig 3d)",
           "replicates: three-layer's final mean is higher and its curve is above normal's in "
-          ">= 75% of generations; partly: either the higher mean or above in >= 50%",
+          ">= 75% of generations; partly: the higher final mean, or the curve above in >= 50%",
           more_separations),
     Claim("separations-chance", PERFORMANCE,
           "Three-layer econets average roughly as many separations as expected by chance "
@@ -532,7 +535,8 @@ CLAIMS = [
           "The elbow muscles remain coactivated: coactivation stays the dominant pattern "
           "throughout training (Fig 7b)",
           "replicates: the elbow's coactivation curve is below its reciprocal curve in >= 90% "
-          "of generations; partly: in the final window's means", elbow_stays_coactivated),
+          "of generations; partly: its final mean deviation from coactivation is the lower one",
+          elbow_stays_coactivated),
     Claim("elbow-coact-diminishes", COACTIVATION,
           "Elbow coactivation slowly diminishes over learning",
           "deviation from coactivation, final minus early window, mean over runs: replicates "
@@ -580,31 +584,32 @@ CLAIMS = [
           "Fixated approach movements remain below chance during the first 50 generations "
           "(sight of the object suppresses approach)",
           "first quarter, P(approach | fixated): replicates when the mean is below 0.5 and the "
-          "curve is below 0.5 in >= 80% of its generations; partly: either, or >= 50%",
+          "curve is below 0.5 in >= 80% of its generations; partly: the mean below 0.5, or the "
+          "curve below it in >= 50%",
           fixated_below_chance),
     Claim("fix-rises", SLOWDOWN,
           "After the initial decline, fixated approach movements steadily increase (Fig 8)",
-          "mean P(approach | fixated): replicates when the final window exceeds the first "
-          "quarter by > 0.05 and 0.5; partly: exceeds the first quarter by > 0.02",
+          "mean P(approach | fixated): replicates when the final window's exceeds the first "
+          "quarter's by > 0.05 and is above 0.5; partly: exceeds it by > 0.02",
           fixated_rises),
     Claim("hand-slowdown", SLOWDOWN,
           "Sight of the object is associated with an early slowdown of hand movements "
           "(Fig 9a)",
           "fixated hand-speed curve smoothed over G/40 generations: replicates when its "
-          "first-quarter minimum, after generation 0, is >= 15% below its start; partly: 5%",
+          "first-quarter minimum, after generation 0, is >= 15% below its start; partly: > 5%",
           partial(early_slowdown, "hand")),
     Claim("eye-slowdown", SLOWDOWN,
           "... and of head/eye movements (Fig 9b)",
           "as hand-slowdown, for the eye (body-axis) speed", partial(early_slowdown, "eye")),
     Claim("slowdown-temporary", SLOWDOWN,
           "The slowdown is early and short-lived (speeds recover later)",
-          "per speed (hand, eye): recovered when it dips (>= 5% below its start after "
+          "per speed (hand, eye): recovered when it dips (> 5% below its start after "
           "generation 0) and its final mean is > 10% above that minimum; replicates: both; "
           "partly: one", slowdown_temporary),
     Claim("less-movement", SLOWDOWN,
           "The early dip in fixated approach reflects less movement overall (explanation a), "
           "not more movement away (b)",
           "start window -> first quarter: replicates when the fixated hand speed drops by "
-          "> 5% and P(away | fixated) rises by <= 0.02; partly: either the speed drops or "
+          "> 5% and P(away | fixated) rises by <= 0.02; partly: the speed drops by > 5%, or "
           "P(away) does not rise", less_movement),
 ]

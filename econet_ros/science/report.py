@@ -60,25 +60,26 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
             for problem in data.problems]
 
 
-def markdown(a: Analysis) -> str:
+def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _claims, _performance, _joint_locking,
                 _coactivation, _approach, _slowdown, _sensitivity)
-    return "\n".join(line for section in sections for line in section(a)) + "\n"
+    return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
-def _title(a: Analysis) -> list[str]:
+def _title(analysis: Analysis) -> list[str]:
     return ["# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
-            f"Made by `econet analyze {a.out}` from the study folder `{a.out}` "
+            f"Made by `econet analyze {analysis.out}` from the study folder `{analysis.out}` "
             "(`econet study` = `scripts/run`). Measures are defined in "
             "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n"]
 
 
-def _settings(a: Analysis) -> list[str]:
-    e, net, m = a.spec.config.evolution, a.spec.config.network, a.spec.config.model
+def _settings(analysis: Analysis) -> list[str]:
+    config = analysis.spec.config
+    e, net, m = config.evolution, config.network, config.model
     return ["## Settings\n",
-            f"- {a.spec.runs} runs per condition, {e.generations} generations, population "
+            f"- {analysis.spec.runs} runs per condition, {e.generations} generations, population "
             f"{e.population}, {e.parents} parents, {e.trials} trials x {e.cycles} cycles, base "
-            f"seed {a.spec.seed}",
+            f"seed {analysis.spec.seed}",
             f"- four-layer hidden sizes {net.visual_hidden} (visual) / {net.proprio_hidden} "
             f"(proprioceptive) / {net.intermodal_hidden} (intermodal); three-layer hidden "
             f"{net.three_layer_hidden}; object radius {m.object_radius:g}; start posture "
@@ -87,19 +88,19 @@ def _settings(a: Analysis) -> list[str]:
             "selected for reproduction in that generation\n"]
 
 
-def _completeness(a: Analysis) -> list[str]:
-    if a.notes:
+def _completeness(analysis: Analysis) -> list[str]:
+    if analysis.notes:
         status = ["**This study is incomplete; every number below uses only the data present.** "
-                  "Gaps:\n", *(f"- {n}" for n in a.notes),
+                  "Gaps:\n", *(f"- {n}" for n in analysis.notes),
                   "\nRun the same `econet study` command again to finish it.\n"]
     else:
         status = ["All runs of all conditions are complete.\n"]
-    counts = ", ".join(f"{c}: {d.n_runs} runs" for c, d in a.groups["base"].items())
+    counts = ", ".join(f"{c}: {d.n_runs} runs" for c, d in analysis.groups["base"].items())
     return ["## Completeness\n", *status, f"Runs found: {counts}.\n"]
 
 
-def _claims(a: Analysis) -> list[str]:
-    results = a.claims["base"]
+def _claims(analysis: Analysis) -> list[str]:
+    results = analysis.claims["base"]
     tally = ", ".join(f"{v} {sum(r.verdict == v for r in results)}" for v in VERDICTS)
     return ["## Claims of the paper's Results section vs our measurements\n",
             _claims_table(results), f"\nTally: {tally}.\n"]
@@ -113,23 +114,23 @@ def _claims_table(results: list[ClaimResult]) -> str:
     return "\n".join(rows) + "\n"
 
 
-def _performance(a: Analysis) -> list[str]:
+def _performance(analysis: Analysis) -> list[str]:
     return ["## Overall performance (Figure 3)\n",
-            f"![Figure 3]({a.figures['fig3_performance']})\n"]
+            f"![Figure 3]({analysis.figures['fig3_performance']})\n"]
 
 
-def _joint_locking(a: Analysis) -> list[str]:
-    w = a.windows
+def _joint_locking(analysis: Analysis) -> list[str]:
+    w = analysis.windows
     lines = ["## 1 Joint locking (Figures 4 and 5)\n",
-             f"![Figure 4]({a.figures['fig4_shoulder_flexion']})\n",
-             f"![Figure 5]({a.figures['fig5_elbow_flexion']})\n",
+             f"![Figure 4]({analysis.figures['fig4_shoulder_flexion']})\n",
+             f"![Figure 5]({analysis.figures['fig5_elbow_flexion']})\n",
              f"Per run, {w.label(w.final)}, all econets, cycles before first contact "
              f"(locked = flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}%; position from the mean "
              "shoulder angle: >= 135 deg extended, <= 45 deg flexed):\n",
              "| run | shoulder flexion % | shoulder angle (deg) | shoulder | locked from gen | "
              "elbow flexion % | elbow |",
              "|---|---|---|---|---|---|---|"]
-    normal = a.groups["base"].get("normal")
+    normal = analysis.groups["base"].get("normal")
     if normal is not None and normal.n_runs:
         lines += [f"| {r['run']} | {fmt(r['shoulder_flexion'], 1)} | "
                   f"{fmt(r['shoulder_angle'], 0)} | {r['position']} | "
@@ -139,18 +140,18 @@ def _joint_locking(a: Analysis) -> list[str]:
     return lines + [""]
 
 
-def _coactivation(a: Analysis) -> list[str]:
+def _coactivation(analysis: Analysis) -> list[str]:
     return ["## 2 Muscle coactivation (Figures 6 and 7)\n",
-            f"![Figure 6]({a.figures['fig6_activation_space']})\n",
-            f"![Figure 7]({a.figures['fig7_coactivation']})\n"]
+            f"![Figure 6]({analysis.figures['fig6_activation_space']})\n",
+            f"![Figure 7]({analysis.figures['fig7_coactivation']})\n"]
 
 
-def _approach(a: Analysis) -> list[str]:
+def _approach(analysis: Analysis) -> list[str]:
     lines = ["## 3 Stereotyped approach movements and the lesion (Figure 8)\n",
-             f"![Figure 8]({a.figures['fig8_approach']})\n"]
-    if "lesion" in a.figures:
-        lines.append(f"![Lesion]({a.figures['lesion']})\n")
-    return lines + [_lesion_table(a.lesions["base"])]
+             f"![Figure 8]({analysis.figures['fig8_approach']})\n"]
+    if "lesion" in analysis.figures:
+        lines.append(f"![Lesion]({analysis.figures['lesion']})\n")
+    return lines + [_lesion_table(analysis.lesions["base"])]
 
 
 LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)", 1),
@@ -175,43 +176,44 @@ def _lesion_table(lesion: list[dict]) -> str:
     return "\n".join(rows) + "\n"
 
 
-def _slowdown(a: Analysis) -> list[str]:
-    return ["## 4 Movement slowdown (Figure 9)\n", f"![Figure 9]({a.figures['fig9_speed']})\n"]
+def _slowdown(analysis: Analysis) -> list[str]:
+    return ["## 4 Movement slowdown (Figure 9)\n",
+            f"![Figure 9]({analysis.figures['fig9_speed']})\n"]
 
 
-def _sensitivity(a: Analysis) -> list[str]:
+def _sensitivity(analysis: Analysis) -> list[str]:
     heading = "## Sensitivity to the paper's open assumptions\n"
-    if len(a.groups) == 1:
+    if len(analysis.groups) == 1:
         return [heading, "No sensitivity variants in this study (run `econet study "
                 "--sensitivity all` to add them).\n"]
-    lines = [heading, *_variants(a), "", *_verdicts_by_setting(a)]
-    if "sensitivity" in a.figures:
-        lines.append(f"![Sensitivity]({a.figures['sensitivity']})\n")
-    for name in list(a.groups)[1:]:
+    lines = [heading, *_variants(analysis), "", *_verdicts_by_setting(analysis)]
+    if "sensitivity" in analysis.figures:
+        lines.append(f"![Sensitivity]({analysis.figures['sensitivity']})\n")
+    for name in list(analysis.groups)[1:]:
         lines += [f"<details><summary>{name}: measurements</summary>\n",
-                  _claims_table(a.claims[name]), "\n</details>\n"]
+                  _claims_table(analysis.claims[name]), "\n</details>\n"]
     return lines
 
 
-def _variants(a: Analysis) -> list[str]:
+def _variants(analysis: Analysis) -> list[str]:
     """What each variant changes and which conditions it ran."""
     lines = ["Each variant re-runs the conditions its setting affects, with the same seeds; "
              "conditions it does not affect are taken from the base study (random movement "
              "ignores network sizes; the three-layer net ignores the four-layer hidden "
              "sizes).\n"]
-    for name, changes in a.spec.variants.items():
+    for name, changes in analysis.spec.variants.items():
         setting = ", ".join(f"{k}={v}" for k, v in changes.items())
-        ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in a.groups[name].items())
-        missing = [p for d in a.groups[name].values() for p in d.problems]
+        ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in analysis.groups[name].items())
+        missing = [p for d in analysis.groups[name].values() for p in d.problems]
         lines.append(f"- **{name}**: {setting}; ran {ran}"
                      + (f"; INCOMPLETE: {'; '.join(missing)}" if missing else ""))
     return lines
 
 
-def _verdicts_by_setting(a: Analysis) -> list[str]:
+def _verdicts_by_setting(analysis: Analysis) -> list[str]:
     """One row a claim: its verdict under the base settings and every variant."""
-    names = list(a.claims)
-    per_claim = list(zip(*(a.claims[n] for n in names)))
+    names = list(analysis.claims)
+    per_claim = list(zip(*(analysis.claims[n] for n in names)))
     keys = [results[0].claim.key for results in per_claim]
     rows = [f"| {key} | " + " | ".join(r.verdict for r in results) + " |"
             for key, results in zip(keys, per_claim)]

@@ -88,6 +88,7 @@ def mean_curve(data: ConditionData, column: str) -> np.ndarray:
 
 
 def fmt(x: float, digits: int = 2) -> str:
+    """A number for the report; "n/a" where nothing was measured."""
     return "n/a" if x is None or not np.isfinite(x) else f"{x:.{digits}f}"
 
 
