@@ -19,6 +19,7 @@ from ..trials import Trace
 
 SQRT2 = np.sqrt(2.0)
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
+CHANCE = 0.5              # P(approach) of a movement at random (paper: Figure 8)
 SHOULDER, ELBOW = (1, 2), (3, 4)   # (flexor, extensor) columns of Trace.motor
 
 
