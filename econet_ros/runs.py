@@ -153,8 +153,8 @@ class RunData:
             raise ResultsError(f"{meta} holds an unreadable config: {error}") from None
         self.seed = int(self.header["seed"])
         self.run = int(self.header["run"])
-        with open(self.path / "metrics.csv", newline="", encoding="utf-8") as handle:
-            rows = list(csv.DictReader(handle))
+        text = (self.path / "metrics.csv").read_text(encoding="utf-8")
+        rows = list(csv.DictReader(text[:text.rfind("\n") + 1].splitlines()))  # whole rows
         self.metrics = {c: np.array([float(r[c]) for r in rows]) for c in METRIC_COLUMNS}
         self.generations_done = len(rows)
 

@@ -51,6 +51,13 @@ class Cell:
     name: str
     changes: dict          # dotted config key -> value (the cell's own and its factor levels)
     conditions: tuple[str, ...]
+    base: str = ""         # the named cell it was crossed from ("" without named cells)
+    levels: tuple = ()     # its factor levels, as (dotted key, value) pairs
+
+    def matches(self, name: str) -> bool:
+        """Whether a comparison's cell name means this cell: its own name, or the named cell
+        it was crossed from (then the comparison is made at every factor level)."""
+        return name in (self.name, self.base)
 
 
 @dataclass(frozen=True)
@@ -93,12 +100,14 @@ class SweepSpec:
                 "generations": self.generations, "seeds": list(self.seeds),
                 "behaviour": self.behaviour, "settings": self.settings,
                 "cells": [{"name": c.name, "changes": c.changes,
-                           "conditions": list(c.conditions)} for c in self.cells],
+                           "conditions": list(c.conditions), "base": c.base,
+                           "levels": [list(pair) for pair in c.levels]} for c in self.cells],
                 "compare": self.compare}
 
     @classmethod
     def from_dict(cls, data: dict) -> "SweepSpec":
-        cells = [Cell(c["name"], c["changes"], tuple(c["conditions"])) for c in data["cells"]]
+        cells = [Cell(c["name"], c["changes"], tuple(c["conditions"]), c["base"],
+                      tuple(map(tuple, c["levels"]))) for c in data["cells"]]
         return cls(data["name"], data["generations"], tuple(data["seeds"]), cells,
                    data["settings"], data["behaviour"], data["compare"], data["description"])
 
@@ -237,10 +246,7 @@ def _cells(named: Any, crossed: list[dict], conditions: tuple[str, ...]) -> list
     for (name, changes, own), levels in itertools.product(bases, crossed):
         label = "+".join(filter(None, [name] + [f"{k.partition('.')[2]}={_level(v)}"
                                                 for k, v in levels.items()])) or "base"
-        cells.append(Cell(label, {**changes, **levels}, own))
-    names = [c.name for c in cells]
-    if len(set(names)) != len(names):
-        raise ConfigError(f"cell names repeat: {', '.join(n for n in names if names.count(n) > 1)}")
+        cells.append(Cell(label, {**changes, **levels}, own, name, tuple(levels.items())))
     return cells
 
 
@@ -265,13 +271,13 @@ def _comparisons(value: Any) -> list[dict]:
 
 
 def _check_comparisons(spec: SweepSpec) -> None:
-    names = {c.name for c in spec.cells}
     for item in spec.compare:
         for side in ("a", "b"):
             cell = item[side].get("cell")
-            if cell is not None and cell not in names:
+            if cell is not None and not any(c.matches(cell) for c in spec.cells):
+                names = sorted({c.base or c.name for c in spec.cells})
                 raise ConfigError(f"compare names cell '{cell}', which the spec does not have "
-                                  f"(cells: {', '.join(sorted(names))})")
+                                  f"(cells: {', '.join(names)})")
             condition = item[side].get("condition")
             if condition is not None and condition not in CONDITIONS:
                 raise ConfigError(f"compare names condition '{condition}'")

@@ -106,20 +106,23 @@ def values(rows: list[dict], cell: str, condition: str, column: str,
 
 # -- comparisons --------------------------------------------------------------------------------
 def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:
-    """The (cell, condition) pairs a [[compare]] entry stands for: a side without a cell means
-    every cell (the same on both sides), a side without a condition every condition the cell
-    runs (the same on both sides)."""
+    """The (cell, condition) pairs a [[compare]] entry stands for. A side without a cell means
+    every cell (the same on both sides); a cell named as crossed with factors means each of its
+    factor levels, paired with the other side's cell at the same levels; a side without a
+    condition means every condition the cell runs (the same on both sides)."""
     a, b = item["a"], item["b"]
     runs = {(c.name, condition) for c in spec.cells for condition in c.conditions}
     pairs = []
     for cell in spec.cells:
-        if a.get("cell", cell.name) != cell.name:
+        if "cell" in a and not cell.matches(a["cell"]):
             continue
+        partner = cell if "cell" not in b else next(
+            (c for c in spec.cells if c.matches(b["cell"]) and c.levels == cell.levels), None)
         for condition in cell.conditions:
-            if a.get("condition", condition) != condition:
+            if a.get("condition", condition) != condition or partner is None:
                 continue
             left = (cell.name, condition)
-            right = (b.get("cell", cell.name), b.get("condition", condition))
+            right = (partner.name, b.get("condition", condition))
             if right in runs and right != left and (left, right) not in pairs:
                 pairs.append((left, right))
     return pairs
