@@ -55,6 +55,31 @@ def mean_angle(trace: Trace, joint: str, mask: np.ndarray | None = None) -> floa
     return _pooled(getattr(trace, joint)[:-1], mask)
 
 
+JOINTS = ("body", "shoulder", "elbow")
+MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
+
+
+def moving_share(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
+    """Share of (pre-contact) cycles in which the joint's angle changes by more than
+    MOVING_DEG: 0 for a locked or frozen joint, whatever holds it there."""
+    mask = pre_contact(trace) if mask is None else mask
+    angle = getattr(trace, joint)
+    return _pooled((np.abs(angle[1:] - angle[:-1]) > MOVING_DEG).astype(float), mask)
+
+
+def excursion(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
+    """Mean over trials of the range (max - min) the joint's angle covers before first contact
+    (rows 0..first contact), in degrees; trials with no pre-contact cycle do not count."""
+    mask = pre_contact(trace) if mask is None else mask
+    rows = np.vstack([mask, np.zeros((1, mask.shape[1]), bool)]) | \
+        np.vstack([np.zeros((1, mask.shape[1]), bool), mask])   # states a pre-contact cycle touches
+    angle = getattr(trace, joint)
+    high = np.where(rows, angle, -np.inf).max(axis=0)
+    low = np.where(rows, angle, np.inf).min(axis=0)
+    counted = mask.any(axis=0)
+    return float((high - low)[counted].mean()) if counted.any() else float("nan")
+
+
 # -- Figures 6 and 7: coactivation / reciprocal activation -----------------------------------
 def coactivation_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
     """Distance of (f, e) from the line f = e (ideal coactivation): |f - e| / sqrt 2."""
@@ -64,6 +89,17 @@ def coactivation_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarr
 def reciprocal_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
     """Distance of (f, e) from the line f + e = 1 (ideal reciprocal activation)."""
     return np.abs(flexor + extensor - 1.0) / SQRT2
+
+
+def both_share(trace: Trace, joint: tuple[int, int], high: bool,
+               mask: np.ndarray | None = None) -> float:
+    """Share of (pre-contact) cycles with both muscles of the pair above 0.5 (co-contraction,
+    high=True: a stiffened joint) or both below (co-relaxation: a slack one). Both lie on the
+    ideal coactivation line; only co-contraction is what the paper calls stiffening."""
+    mask = pre_contact(trace) if mask is None else mask
+    f, e = trace.motor[:, :, joint[0]], trace.motor[:, :, joint[1]]
+    both = (f > 0.5) & (e > 0.5) if high else (f < 0.5) & (e < 0.5)
+    return _pooled(both.astype(float), mask)
 
 
 def activation_deviations(trace: Trace, joint: tuple[int, int],
@@ -142,6 +178,12 @@ BEHAVIOUR_COLUMNS = [
     # Figure 3's latency over successful trials only (metrics.csv's counts a miss as the trial
     # length)
     "top_latency_success", "all_latency_success",
+    # joint mobility (all econets, pre-contact): which joints move, and how far in a trial
+    "all_body_moving", "all_shoulder_moving", "all_elbow_moving",
+    "all_body_excursion", "all_shoulder_excursion", "all_elbow_excursion",
+    # coactivation split (top 20, pre-contact): both muscles high vs both low
+    "top_shoulder_cocontraction", "top_shoulder_corelaxation",
+    "top_elbow_cocontraction", "top_elbow_corelaxation",
 ]
 
 
@@ -183,6 +225,11 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
         "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every, eye),
         "top_latency_success": latency_of_successes(trace, envs),
         "all_latency_success": latency_of_successes(trace),
+        **{f"all_{joint}_moving": moving_share(trace, joint, pre) for joint in JOINTS},
+        **{f"all_{joint}_excursion": excursion(trace, joint, pre) for joint in JOINTS},
+        **{f"top_{name}_{kind}": both_share(trace, pair, kind == "cocontraction", top_pre)
+           for name, pair in (("shoulder", SHOULDER), ("elbow", ELBOW))
+           for kind in ("cocontraction", "corelaxation")},
     }
 
 
