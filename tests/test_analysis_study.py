@@ -8,7 +8,8 @@ import pytest
 from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.errors import ResultsError
-from econet_ros.science.claims import CLAIMS, VERDICTS, Claim, Evidence, evaluate, judge
+from econet_ros.science.claims import CLAIMS, VERDICTS, Claim, Judged, evaluate, judge
+from econet_ros.science.evidence import Evidence
 from econet_ros.science.lesion import lesion_study
 from econet_ros.science.report import build_report
 from econet_ros.science.series import Windows
@@ -73,7 +74,8 @@ def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
 
 def test_claims_table_is_judged_claim_by_claim_in_order(tiny_study):
     keys = [claim.key for claim in CLAIMS]
-    assert len(set(keys)) == len(keys) == 30
+    assert len(set(keys)) == len(keys) == 37
+    assert sum(not claim.added for claim in CLAIMS) == 30       # the paper's table
     assert {claim.section for claim in CLAIMS} == {
         "Overall performance", "1 Joint locking", "2 Muscle coactivation",
         "3 Stereotyped approach", "4 Movement slowdown"}
@@ -96,8 +98,8 @@ def test_a_claim_that_cannot_be_measured_says_why(tiny_study):
     assert results["lesion-start"].ours == "not measurable: no normal runs"
     assert results["shoulder-locked"].verdict != "n/a"
     broken = Claim("broken", "test", "words", "rule", lambda evidence: {}["column"])
-    assert judge(broken, Evidence(without, [], Windows(4))) == (
-        broken, "not measurable (KeyError: 'column')", "n/a")
+    assert judge(broken, Evidence(without, [], Windows(4))) == Judged(
+        "not measurable (KeyError: 'column')", "n/a")
 
 
 def test_interrupted_behaviour_is_refilled_by_replay(tiny_study, tmp_path):

@@ -297,6 +297,25 @@ class ReachSummary:
     start_radius: float          # mean hand distance from the shoulder at the reach start
     trial_start_spread_body: float  # the same spread at trial start (for reference)
     n_reaches: int
+    reach_elbow_spread: float = float("nan")   # posture convergence: see elbow_spread
+    trial_elbow_spread: float = float("nan")   # the same at trial start (for reference)
+
+
+REACH_CYCLES = 10         # the cycles before first contact over which posture spread is taken
+
+
+def elbow_spread(trace: Trace, cycles: int = REACH_CYCLES) -> tuple[float, float]:
+    """Posture convergence: the across-trial s.d. of the elbow angle over the last ``cycles``
+    states before first contact (aligned on it, trials reached later than that only), averaged
+    over those states; and the s.d. of the elbow angle at trial start over the same trials.
+    Stereotyped reaches bring the elbow to the same angles whatever it started from."""
+    contact = first_contact(trace)
+    envs = np.flatnonzero(contact >= cycles)
+    if len(envs) < 2:
+        return float("nan"), float("nan")
+    rows = contact[envs][None, :] - np.arange(cycles)[:, None]      # (cycles, trials)
+    angles = trace.elbow[rows, envs[None, :]]
+    return float(angles.std(axis=1).mean()), float(trace.elbow[0, envs].std())
 
 
 def summarize_reaches(trace: Trace) -> ReachSummary:
@@ -334,4 +353,5 @@ def summarize_reaches(trace: Trace) -> ReachSummary:
         else float("nan"),
         trial_start_spread_body=spread(trial_start),
         n_reaches=int(len(envs)),
+        **dict(zip(("reach_elbow_spread", "trial_elbow_spread"), elbow_spread(trace))),
     )

@@ -3,14 +3,17 @@ section (claims.py) next to our measurement and a verdict, with the figures (fig
 Definitions: docs/analysis.md."""
 from __future__ import annotations
 
+import csv
 import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from .claims import LOCK, VERDICTS, ClaimResult, evaluate, joint_table
+from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
+from .evidence import LOCK, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
-from .series import Windows, fmt, mean_sd
+from .series import Windows, fmt
+from .stats import estimate
 from .study import ConditionData, StudySpec, load_study
 
 
@@ -44,12 +47,14 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
                for name, group in groups.items()}
     G = spec.config.evolution.generations
     # a variant holds only the conditions it re-ran; the others come from the base study
-    claims = {name: evaluate({**groups["base"], **group}, lesions[name], G)
+    claims = {name: evaluate({**groups["base"], **group}, lesions[name], G,
+                             nulls=name == "base")
               for name, group in groups.items()}
     files = make_figures(groups, lesions["base"], figures)
     analysis = Analysis(out, spec, groups, gaps(groups), lesions, claims,
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()})
     report.write_text(markdown(analysis), encoding="utf-8")
+    write_claims_csv(report.with_name("claims.csv"), claims["base"])
     return report, analysis.notes
 
 
@@ -103,15 +108,55 @@ def _claims(analysis: Analysis) -> list[str]:
     results = analysis.claims["base"]
     tally = ", ".join(f"{v} {sum(r.verdict == v for r in results)}" for v in VERDICTS)
     return ["## Claims of the paper's Results section vs our measurements\n",
-            _claims_table(results), f"\nTally: {tally}.\n"]
+            f"Each claim: the paper's words, our rule (written before the data it judges; "
+            f"docs/analysis.md), our estimate with its 95% bootstrap interval over runs "
+            f"(n = runs), and where conditions or windows are compared the paired difference "
+            f"over runs with its effect size d_z. *Added* claims are ones the paper makes in "
+            f"passing. The last columns check each rule against two nulls: its verdict with "
+            f"random movement in the normal condition's place, and how often it says "
+            f"'replicates' on {SHUFFLES} time-shuffled copies of the data (both should be "
+            f"low; '-' where a claim does not read the normal condition's time course). "
+            f"Machine-readable: claims.csv beside this report.\n",
+            _claims_table(results, nulls=True), f"\nTally: {tally}.\n"]
 
 
-def _claims_table(results: list[ClaimResult]) -> str:
-    rows = ["| # | section | paper's claim | our measurement | verdict |",
-            "|---|---|---|---|---|"]
-    rows += [f"| {i} | {r.claim.section} | {r.claim.paper} | {r.ours.replace('|', '/')} | "
-             f"**{r.verdict}** |" for i, r in enumerate(results, 1)]
+def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
+    head = "| # | section | paper's claim | our rule | our measurement | verdict |"
+    rows = [head + (" random null | shuffled null |" if nulls else ""),
+            "|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
+    for i, r in enumerate(results, 1):
+        claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
+        row = (f"| {i} | {r.claim.section} | {claim} | {r.claim.rule} | "
+               f"{r.ours.replace('|', '/')} | **{r.verdict}** |")
+        if nulls and r.nulls is not None:
+            shuffled = "-" if r.nulls.shuffled != r.nulls.shuffled else f"{r.nulls.shuffled:.0%}"
+            row += f" {r.nulls.random} | {shuffled} |"
+        rows.append(row)
     return "\n".join(rows) + "\n"
+
+
+CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "measurement",
+                 "estimate", "ci_low", "ci_high", "n_runs", "comparison", "difference",
+                 "difference_ci_low", "difference_ci_high", "effect_size_dz", "verdict",
+                 "null_random_verdict", "null_shuffled_replicates"]
+
+
+def claim_row(number: int, r: ClaimResult) -> dict:
+    j, nan = r.judged, float("nan")
+    e, p = j.estimate, j.comparison
+    return dict(zip(CLAIM_COLUMNS, (
+        number, r.claim.key, r.claim.section, r.claim.added, r.claim.paper, r.claim.rule,
+        j.ours, *((e.mean, e.lo, e.hi, e.n) if e is not None else (nan, nan, nan, 0)),
+        j.compared, *((p.diff.mean, p.diff.lo, p.diff.hi, p.effect) if p is not None
+                      else (nan, nan, nan, nan)),
+        j.verdict, r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan)))
+
+
+def write_claims_csv(path: Path, results: list[ClaimResult]) -> None:
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, CLAIM_COLUMNS)
+        writer.writeheader()
+        writer.writerows(claim_row(i, r) for i, r in enumerate(results, 1))
 
 
 def _performance(analysis: Analysis) -> list[str]:
@@ -127,15 +172,15 @@ def _joint_locking(analysis: Analysis) -> list[str]:
              f"Per run, {w.label(w.final)}, all econets, cycles before first contact "
              f"(locked = flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}%; position from the mean "
              "shoulder angle: >= 135 deg extended, <= 45 deg flexed):\n",
-             "| run | shoulder flexion % | shoulder angle (deg) | shoulder | locked from gen | "
-             "elbow flexion % | elbow |",
+             "| run | shoulder flexion % | shoulder angle (deg) | shoulder | first locked at gen | "
+             "elbow flexion % | elbow moves in (share of cycles) |",
              "|---|---|---|---|---|---|---|"]
     normal = analysis.groups["base"].get("normal")
     if normal is not None and normal.n_runs:
         lines += [f"| {r['run']} | {fmt(r['shoulder_flexion'], 1)} | "
                   f"{fmt(r['shoulder_angle'], 0)} | {r['position']} | "
                   f"{fmt(r['lock_generation'], 0)} | {fmt(r['elbow_flexion'], 1)} | "
-                  f"{'compliant' if r['elbow_compliant'] else 'dominated'} |"
+                  f"{fmt(r['elbow_moving'], 2)} |"
                   for r in joint_table(normal, w)]
     return lines + [""]
 
@@ -160,19 +205,26 @@ LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles
                ("final_approach_cycles", "final approach (cycles)", 1),
                ("start_spread_body", "reach-start spread, body frame", 1),
                ("start_spread_world", "reach-start spread, workspace", 1),
-               ("start_radius", "reach-start distance from shoulder", 1)]
+               ("start_radius", "reach-start distance from shoulder", 1),
+               ("reach_elbow_spread", "elbow-angle spread over the last 10 cycles of a reach "
+                                      "(posture convergence, deg)", 1),
+               ("trial_elbow_spread", "elbow-angle spread at trial start, same trials (deg)", 1)]
+LESIONS = ("intact", "lesioned", "vision-lesioned")
 
 
 def _lesion_table(lesion: list[dict]) -> str:
     if not lesion:
         return "No normal runs: no lesion test.\n"
     rows = [f"Final-generation top-20 econets of {len(lesion)} normal runs, {LESION_TRIALS} fresh "
-            "trials each, intact vs proprioceptive inputs severed (mean ± s.d. over runs):\n",
-            "| measure | intact | lesioned |", "|---|---|---|"]
+            "trials each: intact, with the proprioceptive inputs severed (the paper's lesion), "
+            "and with the visual inputs severed (a control: does any lesion do the same?); "
+            "mean [95% bootstrap CI] over runs:\n",
+            "| measure | intact | proprioception severed | vision severed |",
+            "|---|---|---|---|"]
     for attr, label, digits in LESION_ROWS:
-        intact = [getattr(r["intact"], attr) for r in lesion]
-        lesioned = [getattr(r["lesioned"], attr) for r in lesion]
-        rows.append(f"| {label} | {mean_sd(intact, digits)} | {mean_sd(lesioned, digits)} |")
+        cells = [estimate([getattr(r[kind], attr) for r in lesion]).text(digits)
+                 for kind in LESIONS]
+        rows.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(rows) + "\n"
 
 

@@ -62,6 +62,10 @@ class Windows:
         return slice(0, max(1, self.G // 4))
 
     @property
+    def dip(self) -> slice:          # 5%-25% (gens 10-49 at G = 200): after the start, in
+        return slice(max(1, self.G // 20), max(2, self.G // 4))   # the paper's early slowdown
+
+    @property
     def final(self) -> slice:        # last 10%
         return slice(self.G - max(1, self.G // 10), self.G)
 
