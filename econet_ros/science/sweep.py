@@ -31,10 +31,13 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from ..config import CONDITIONS, SETTINGS, Config
 from ..errors import ConfigError, ResultsError
@@ -281,6 +284,38 @@ def _check_comparisons(spec: SweepSpec) -> None:
             condition = item[side].get("condition")
             if condition is not None and condition not in CONDITIONS:
                 raise ConfigError(f"compare names condition '{condition}'")
+
+
+# -- runs and their pairs -----------------------------------------------------------------------
+def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:
+    """The (cell, condition) pairs a [[compare]] entry stands for. A side without a cell means
+    every cell (the same on both sides); a cell named as crossed with factors means each of its
+    factor levels, paired with the other side's cell at the same levels; a side without a
+    condition means every condition the cell runs (the same on both sides)."""
+    a, b = item["a"], item["b"]
+    runs = {(c.name, condition) for c in spec.cells for condition in c.conditions}
+    pairs = []
+    for cell in spec.cells:
+        if "cell" in a and not cell.matches(a["cell"]):
+            continue
+        partner = cell if "cell" not in b else next(
+            (c for c in spec.cells if c.matches(b["cell"]) and c.levels == cell.levels), None)
+        for condition in cell.conditions:
+            if a.get("condition", condition) != condition or partner is None:
+                continue
+            left = (cell.name, condition)
+            right = (partner.name, b.get("condition", condition))
+            if right in runs and right != left and (left, right) not in pairs:
+                pairs.append((left, right))
+    return pairs
+
+
+def values(rows: list[dict], cell: str, condition: str, column: str,
+           seeds: tuple[int, ...]) -> np.ndarray:
+    """A column over the seeds, in seed order (NaN where a run is missing)."""
+    by_seed = {r["seed"]: r[column] for r in rows
+               if r["cell"] == cell and r["condition"] == condition}
+    return np.array([by_seed.get(seed, math.nan) for seed in seeds], dtype=float)
 
 
 # -- the output folder --------------------------------------------------------------------------

@@ -18,7 +18,8 @@ from ..runs import RunData
 from .measures import BEHAVIOUR_COLUMNS
 from .stats import estimate, paired
 from .study import read_behaviour
-from .sweep import SweepSpec, load_sweep
+from .regime import regime_markdown
+from .sweep import SweepSpec, comparison_pairs, load_sweep, values
 
 
 @dataclass(frozen=True)
@@ -96,38 +97,7 @@ def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
     return rows
 
 
-def values(rows: list[dict], cell: str, condition: str, column: str,
-           seeds: tuple[int, ...]) -> np.ndarray:
-    """A column over the seeds, in seed order (NaN where a run is missing)."""
-    by_seed = {r["seed"]: r[column] for r in rows
-               if r["cell"] == cell and r["condition"] == condition}
-    return np.array([by_seed.get(seed, math.nan) for seed in seeds], dtype=float)
-
-
 # -- comparisons --------------------------------------------------------------------------------
-def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:
-    """The (cell, condition) pairs a [[compare]] entry stands for. A side without a cell means
-    every cell (the same on both sides); a cell named as crossed with factors means each of its
-    factor levels, paired with the other side's cell at the same levels; a side without a
-    condition means every condition the cell runs (the same on both sides)."""
-    a, b = item["a"], item["b"]
-    runs = {(c.name, condition) for c in spec.cells for condition in c.conditions}
-    pairs = []
-    for cell in spec.cells:
-        if "cell" in a and not cell.matches(a["cell"]):
-            continue
-        partner = cell if "cell" not in b else next(
-            (c for c in spec.cells if c.matches(b["cell"]) and c.levels == cell.levels), None)
-        for condition in cell.conditions:
-            if a.get("condition", condition) != condition or partner is None:
-                continue
-            left = (cell.name, condition)
-            right = (partner.name, b.get("condition", condition))
-            if right in runs and right != left and (left, right) not in pairs:
-                pairs.append((left, right))
-    return pairs
-
-
 def comparison_rows(spec: SweepSpec, rows: list[dict]) -> list[dict]:
     table = []
     for item in spec.compare:
@@ -180,12 +150,12 @@ def build_sweep_report(out: Path) -> tuple[Path, list[str]]:
     if compared:
         figures.append(comparison_figure(compared, out / "figures"))
     summary = out / "summary.md"
-    summary.write_text(summary_markdown(spec, late, compared, notes, figures, out),
+    summary.write_text(summary_markdown(spec, rows, late, compared, notes, figures, out),
                        encoding="utf-8")
     return summary, notes
 
 
-def summary_markdown(spec: SweepSpec, late, compared, notes, figures, out: Path) -> str:
+def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out: Path) -> str:
     lines = [f"# Sweep '{spec.name}'\n", spec.description + "\n" if spec.description else "",
              f"{len(spec.cells)} cell(s), seeds {', '.join(map(str, spec.seeds))}, "
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
@@ -219,5 +189,6 @@ def summary_markdown(spec: SweepSpec, late, compared, notes, figures, out: Path)
                          f"{row['ci_high']:.2f}] | {row['effect_size_dz']:.2f} | "
                          f"{row['a_above_b']} of {row['n_seeds']} |")
     lines.append("")
+    lines += regime_markdown(spec, rows)
     lines += [f"![{p.stem}]({p.relative_to(out)})\n" for p in figures]
     return "\n".join(lines) + "\n"
