@@ -472,7 +472,8 @@ def early_slowdown(kind: str, ev: Evidence) -> Judged:
     slower = ev.compare(("normal", column, w.start), ("normal", column, w.dip))
     unit = "units" if kind == "hand" else "deg"
     return Judged(f"{kind} speed while fixating, {w.label(w.start)} - {w.label(w.dip)}: "
-                  f"{said(slower, 2)} {unit}/cycle", verdict(positive(slower), slower.diff.mean > 0),
+                  f"{said(slower, 2)} {unit}/cycle",
+                  verdict(positive(slower), slower.diff.mean > 0),
                   slower.diff, slower, f"start - dip, {kind} speed while fixating")
 
 

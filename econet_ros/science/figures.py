@@ -1,6 +1,7 @@
-"""The paper's Figures 3-9 redrawn from a study, plus the lesion test and the sensitivity
-variants: one function per figure, each returning a matplotlib Figure; make_figures writes them
-as PNG files. Curves are the mean over runs, bands ±1 s.d. over runs. ROS-free."""
+"""The paper's Figures 3-9 redrawn from a study, plus the lesion test, the sensitivity variants
+and a gallery of hand paths: one function per figure, each returning a matplotlib Figure;
+make_figures writes them as PNG files. Curves are the mean over runs with a ±1 s.d. band, and
+every run's own curve as a thin line. ROS-free."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -11,6 +12,7 @@ matplotlib.use("Agg")     # files only, never a window
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from ..runs import RunData, replay  # noqa: E402
 from .lesion import LESION_TRIALS  # noqa: E402
 from .measures import CHANCE, body_frame, reach_starts  # noqa: E402
 from .series import nanmean, nanstd, per_run  # noqa: E402
@@ -39,6 +41,9 @@ def _drawings(groups, lesion):
     yield "fig7_coactivation", coactivation(normal)
     yield "fig8_approach", approach(normal, random)
     yield "fig9_speed", speed(normal, random)
+    runs = [(condition, data.run_dirs[0]) for condition, data in base.items() if _has_runs(data)]
+    if runs:
+        yield "gallery", hand_path_gallery(runs)
     if lesion:
         yield "lesion", lesion_reaches(lesion)
     if len(groups) > 1:
@@ -56,34 +61,60 @@ def _has_runs(data: ConditionData | None) -> bool:
     return data is not None and data.n_runs > 0
 
 
+def series(data: ConditionData, column: str) -> np.ndarray:
+    """(runs, G) values of a column, or of the ratio "a/b" of two (per generation)."""
+    if "/" not in column:
+        return per_run(data, column)
+    top, below = (per_run(data, c) for c in column.split("/"))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(below > 0, top / below, np.nan)
+
+
 def band(ax, data: ConditionData | None, column: str, label: str, color: str,
-         style: str = "-") -> None:
-    """A column's mean curve over runs with a ±1 s.d. band; nothing for a condition without
-    runs."""
+         style: str = "-", runs: bool = True) -> None:
+    """A column's mean curve over runs with a ±1 s.d. band and, with runs, each run's curve
+    as a thin line; nothing for a condition without runs."""
     if not _has_runs(data):
         return
-    values = per_run(data, column)
+    values = series(data, column)
     mean, sd = nanmean(values, axis=0), nanstd(values, axis=0)
     x = np.arange(values.shape[1])
-    ax.plot(x, mean, style, color=color, label=f"{label} (N={data.n_runs})", lw=1.3)
-    ax.fill_between(x, mean - sd, mean + sd, color=color, alpha=0.18, lw=0)
+    if runs:
+        for run in values:
+            ax.plot(x, run, style, color=color, lw=0.4, alpha=0.3)
+    ax.plot(x, mean, style, color=color, label=f"{label} (N={data.n_runs})", lw=1.4)
+    ax.fill_between(x, mean - sd, mean + sd, color=color, alpha=0.15, lw=0)
 
 
-PERFORMANCE_PANELS = [("top_fitness", "(a) fitness"), ("top_successes", "(b) successful trials"),
-                      ("top_latency", "(c) latency (cycles)"),
-                      ("top_separations", "(d) separations")]
+PERFORMANCE_PANELS = [("fitness", "(a) fitness"), ("successes", "(b) successful trials"),
+                      ("latency", "(c) latency (a miss counts as the trial length)"),
+                      ("separations", "(d) separations")]
 
 
 def performance(base: dict[str, ConditionData]):
-    """Figure 3: top-20 fitness, successes, latency and separations of every condition."""
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
-    for ax, (column, title) in zip(axes.ravel(), PERFORMANCE_PANELS):
+    """Figure 3: top-20 fitness, successes, latency and separations of every condition, with
+    the whole population's mean (dotted); and two views the paper does not show: latency over
+    successful trials only, and separations per successful trial."""
+    fig, axes = plt.subplots(2, 3, figsize=(14, 7))
+    panels = list(zip(axes.ravel()[[0, 1, 3, 4]], PERFORMANCE_PANELS))
+    for ax, (measure, title) in panels:
+        for condition, data in base.items():
+            band(ax, data, f"top_{measure}", f"{condition}, top 20", COLORS[condition])
+            band(ax, data, f"all_{measure}", f"{condition}, all", COLORS[condition], ":",
+                 runs=False)
+        ax.set_title(title)
+    for ax, column, title in ((axes[0, 2], "top_latency_success",
+                               "(c') latency over successful trials only"),
+                              (axes[1, 2], "top_separations/top_successes",
+                               "(d') separations per successful trial")):
         for condition, data in base.items():
             band(ax, data, column, condition, COLORS[condition])
         ax.set_title(title)
+    for ax in axes.ravel():
         ax.set_xlabel("generation")
-    axes[0, 0].legend(fontsize=8)
-    fig.suptitle("Figure 3: top-20 performance per generation (mean ± 1 s.d. over runs)")
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("Figure 3: performance per generation (top 20 solid, all econets dotted; "
+                 "mean ± 1 s.d. over runs, thin lines: each run)")
     return fig
 
 
@@ -127,16 +158,24 @@ def activation_space():
 
 
 def coactivation(normal: ConditionData | None):
-    """Figure 7: deviation from ideal coactivation and reciprocal activation per joint."""
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
-    for ax, joint, tag in zip(axes, ("shoulder", "elbow"), ("(a)", "(b)")):
-        band(ax, normal, f"top_{joint}_coact", "coactivation", "tab:green")
-        band(ax, normal, f"top_{joint}_recip", "reciprocal", "tab:red")
-        ax.set_title(f"{tag} {joint}: mean deviation from ideal pattern")
-        ax.set_xlabel("generation")
-        ax.legend(fontsize=8)
+    """Figure 7: deviation from ideal coactivation and reciprocal activation per joint; below,
+    the coactivation split into co-contraction (both muscles high) and co-relaxation (both
+    low)."""
+    fig, axes = plt.subplots(2, 2, figsize=(10, 7.4), sharex=True)
+    for col, joint, tag in zip(range(2), ("shoulder", "elbow"), ("(a)", "(b)")):
+        band(axes[0, col], normal, f"top_{joint}_coact", "coactivation", "tab:green")
+        band(axes[0, col], normal, f"top_{joint}_recip", "reciprocal", "tab:red")
+        axes[0, col].set_title(f"{tag} {joint}: mean deviation from ideal pattern")
+        band(axes[1, col], normal, f"top_{joint}_cocontraction", "both > 0.5 (co-contraction)",
+             "tab:purple")
+        band(axes[1, col], normal, f"top_{joint}_corelaxation", "both < 0.5 (co-relaxation)",
+             "tab:olive")
+        axes[1, col].set_title(f"{joint}: share of cycles")
+        axes[1, col].set_xlabel("generation")
+        for ax in axes[:, col]:
+            ax.legend(fontsize=7)
     fig.suptitle("Figure 7: deviation from ideal coactivation / reciprocal activation, "
-                 "top 20, before first contact")
+                 "top 20, before first contact (thin lines: each run)")
     return fig
 
 
@@ -234,3 +273,40 @@ def sensitivity(groups: dict[str, dict[str, ConditionData]]):
         ax.legend(fontsize=7)
     fig.suptitle("Sensitivity: base assumptions vs variants")
     return fig
+
+
+GALLERY_TRIALS = 6
+
+
+def hand_path_gallery(runs: list[tuple[str, Path]], trials: int = GALLERY_TRIALS):
+    """For each (label, run folder): the best econet's hand paths in its first trials, early
+    (generation G/10) and late (the last generation), the whole trial long; a reaching econet
+    draws lines that end on the object, a spinning one circles round the body."""
+    fig, axes = plt.subplots(len(runs), 2, figsize=(7.6, 3.9 * len(runs)), squeeze=False)
+    for row, (label, folder) in enumerate(runs):
+        data = RunData(folder)
+        last = data.generations_done - 1
+        for col, generation in enumerate((min(last, max(0, data.config.evolution.generations
+                                                         // 10 - 1)), last)):
+            _best_paths(axes[row, col], replay(folder, generation), data, trials)
+            axes[row, col].set_title(f"{label}, {folder.name}, generation {generation}",
+                                     fontsize=9)
+    fig.suptitle(f"Hand paths of the best econet, {trials} trials each (dot: start, cross: "
+                 "end; object red)", fontsize=10)
+    return fig
+
+
+def _best_paths(ax, result, data: RunData, trials: int) -> None:
+    best = int(result.parents[0])
+    per_econet = data.config.evolution.trials
+    trace = result.trace
+    for k, env in enumerate(range(best * per_econet, best * per_econet + min(trials,
+                                                                            per_econet))):
+        path = trace.hand[:, env]
+        color = plt.cm.tab10(k)
+        ax.plot(path[:, 0], path[:, 1], "-", color=color, lw=0.7)
+        ax.plot(*path[0], "o", color=color, ms=3)
+        ax.plot(*path[-1], "x", color=color, ms=5)
+        ax.add_patch(plt.Circle(trace.object_xy[env], data.config.model.object_radius,
+                                color="r", alpha=0.7))
+    _workspace(ax, "")

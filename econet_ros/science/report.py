@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
-from .evidence import LOCK, joint_table
+from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
 from .series import Windows, fmt
@@ -66,8 +66,8 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 
 def markdown(analysis: Analysis) -> str:
-    sections = (_title, _settings, _completeness, _claims, _performance, _joint_locking,
-                _coactivation, _approach, _slowdown, _sensitivity)
+    sections = (_title, _settings, _completeness, _regime, _claims, _performance,
+                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -102,6 +102,48 @@ def _completeness(analysis: Analysis) -> list[str]:
         status = ["All runs of all conditions are complete.\n"]
     counts = ", ".join(f"{c}: {d.n_runs} runs" for c, d in analysis.groups["base"].items())
     return ["## Completeness\n", *status, f"Runs found: {counts}.\n"]
+
+
+def _regime(analysis: Analysis) -> list[str]:
+    """Reaching or spinning? The diagnostics that tell the behaviour the paper analyses from
+    the one our a-priori defaults produced."""
+    ev = Evidence(analysis.groups["base"], [], analysis.windows)
+    late = analysis.windows.final
+    lines = ["## Regime: do the econets reach and hold, or spin and brush?\n",
+             f"Late window ({analysis.windows.label(late)}), top 20, mean [95% CI] over runs; "
+             "differences paired by run:\n"]
+    for label, measure in REGIME_DIAGNOSTICS:
+        try:
+            lines.append(f"- {label}: {measure(ev, late)}")
+        except ValueError as error:
+            lines.append(f"- {label}: not measurable ({error})")
+    if "gallery" in analysis.figures:
+        lines.append(f"\n![Hand paths]({analysis.figures['gallery']})\n")
+    return lines + [""]
+
+
+def _per_reach(ev: Evidence, late: slice) -> str:
+    per = {c: ev.ratio(c, "top_separations", "top_successes", late)
+           for c in ev.group if ev.group[c].n_runs}
+    return "; ".join(f"{c} {estimate(list(v.values())).text()}" for c, v in per.items())
+
+
+def _against_random(column: str, digits: int):
+    def measure(ev: Evidence, late: slice) -> str:
+        pairs = {c: ev.compare((c, column, late), ("random", column, late))
+                 for c in ("normal", "three-layer") if c in ev.group}
+        return "; ".join(f"{c} - random {p.text(digits)}" for c, p in pairs.items())
+    return measure
+
+
+REGIME_DIAGNOSTICS = [
+    ("separations per successful trial (the paper's econets reach and hold: about 1 or "
+     "less)", _per_reach),
+    ("successful trials against random movement", _against_random("top_successes", 2)),
+    ("eye speed while the object is fixated, against random movement (deg/cycle; below "
+     "random: sight of the object slows the eye; above: the eye spins past it)",
+     _against_random("top_eye_speed_fix", 2)),
+]
 
 
 def _claims(analysis: Analysis) -> list[str]:

@@ -82,3 +82,14 @@ def comparison_figure(compared: list[dict], folder: Path) -> Path:
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
+
+
+def gallery(runs: list[tuple[str, Path]], folder: Path) -> Path:
+    """The study's hand-path gallery for the first seed of every cell and condition."""
+    from .figures import hand_path_gallery
+    fig = hand_path_gallery(runs, trials=4)
+    path = folder / "gallery.png"
+    fig.tight_layout()
+    fig.savefig(path, dpi=70)
+    plt.close(fig)
+    return path

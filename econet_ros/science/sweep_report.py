@@ -145,10 +145,14 @@ def build_sweep_report(out: Path) -> tuple[Path, list[str]]:
     late = {(cell.name, condition, o.name): estimate(values(rows, cell.name, condition,
                                                              f"{o.name}_late", spec.seeds))
             for cell in spec.cells for condition in cell.conditions for o in OUTCOMES}
-    from .sweep_figures import outcome_figure, comparison_figure   # matplotlib: late
+    from .sweep_figures import comparison_figure, gallery, outcome_figure   # matplotlib: late
     figures = [outcome_figure(spec, late, {o.name: o.label for o in OUTCOMES}, out / "figures")]
     if compared:
         figures.append(comparison_figure(compared, out / "figures"))
+    first = [(f"{r.cell} {r.condition}", r.folder(out)) for r in spec.runs()
+             if r.seed == spec.seeds[0] and (r.folder(out) / "run.json").exists()]
+    if first:
+        figures.append(gallery(first, out / "figures"))
     summary = out / "summary.md"
     summary.write_text(summary_markdown(spec, rows, late, compared, notes, figures, out),
                        encoding="utf-8")
