@@ -238,3 +238,22 @@ def test_a_two_node_cluster_without_a_shared_folder_gives_the_local_results(swep
         cluster.shutdown()
         for folder in (head, second):
             shutil.rmtree(folder, ignore_errors=True)
+
+
+def test_compare_pairs_sweep_cells_by_seed_and_refuses_a_bare_study(swept, tmp_path, capsys):
+    _, out, _ = swept
+    assert main(["sweep", "report", str(out)]) == 0          # outcomes.csv, to check against
+    a, b = out / "narrow" / "normal", out / "gray" / "normal"
+    table = tmp_path / "compared.csv"
+    assert main(["compare", str(a), str(b), "--csv", str(table)]) == 0
+    assert "paired by run" in capsys.readouterr().out
+    with open(table) as handle:
+        rows = {(r["outcome"], r["window"]): r for r in csv.DictReader(handle)}
+    with open(out / "outcomes.csv") as handle:
+        late = {(r["cell"], int(r["seed"])): float(r["top_fitness_late"])
+                for r in csv.DictReader(handle) if r["condition"] == "normal"}
+    diffs = [late["narrow", s] - late["gray", s] for s in (4, 5)]
+    assert float(rows["top_fitness", "late"]["difference"]) == pytest.approx(np.mean(diffs))
+    assert rows["top_fitness", "late"]["paired"] == "True"
+    assert main(["compare", str(out), str(a)]) == 2
+    assert "holds no run folders" in capsys.readouterr().err
