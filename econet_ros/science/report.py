@@ -4,9 +4,13 @@ Definitions: docs/analysis.md."""
 from __future__ import annotations
 
 import csv
+import gzip
+import io
 import os
 from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
@@ -55,7 +59,31 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()})
     report.write_text(markdown(analysis), encoding="utf-8")
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
+    write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes
+
+
+def write_tables(path: Path, groups: dict[str, dict[str, ConditionData]]) -> None:
+    """Every run's per-generation metrics and behaviour as one tidy, compressed CSV (a row per
+    group, condition, run and generation), so anyone can re-analyse without re-running."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with gzip.GzipFile(path, "wb", mtime=0) as raw, \
+            io.TextIOWrapper(raw, encoding="utf-8", newline="") as handle:   # same bytes each time
+        writer = None
+        for name, group in groups.items():
+            for condition, data in group.items():
+                columns = {**data.metrics, **data.behaviour}
+                if writer is None:
+                    writer = csv.writer(handle)
+                    writer.writerow(["group", "condition", "run", *columns])
+                for i, folder in enumerate(data.run_dirs):
+                    for g in range(data.done[i]):
+                        writer.writerow([name, condition, folder.name,
+                                         *(_cell(v[i, g]) for v in columns.values())])
+
+
+def _cell(value: float) -> str:
+    return "" if not np.isfinite(value) else repr(float(value))
 
 
 def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
