@@ -19,7 +19,8 @@ from ..errors import EconetError
 from . import bag, compare, evaluate, evolve, study, sweep
 from .options import Parser
 
-COMMANDS = (evolve, study, sweep, compare, evaluate, bag)   # each module's add_parser registers its commands
+# each module's add_parser registers its commands
+COMMANDS = (evolve, study, sweep, compare, evaluate, bag)
 
 
 def build_parser() -> Parser:

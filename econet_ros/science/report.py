@@ -4,6 +4,7 @@ Definitions: docs/analysis.md."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import gzip
 import io
 import os
@@ -32,16 +33,19 @@ class Analysis:
     lesions: dict[str, list[dict]]                 # per group: lesion test of its normal runs
     claims: dict[str, list[ClaimResult]]           # per group
     figures: dict[str, str]                        # name -> path relative to the report
+    sweeps: list[Path] = dataclasses.field(default_factory=list)   # summarised in the report
+    folder: Path = Path(".")                                       # where the report is
 
     @property
     def windows(self) -> Windows:
         return Windows(self.spec.config.evolution.generations)
 
 
-def build_report(out: Path, report: Path | None = None, figures: Path | None = None
-                 ) -> tuple[Path, list[str]]:
-    """Analyse a study folder and write the report and figures; returns (report path, notes
-    about gaps). Raises errors.ResultsError for folders that cannot be analysed."""
+def build_report(out: Path, report: Path | None = None, figures: Path | None = None,
+                 sweeps: list[Path] = ()) -> tuple[Path, list[str]]:
+    """Analyse a study folder and write the report and figures (with a section on each sweep
+    folder given); returns (report path, notes about gaps). Raises errors.ResultsError for
+    folders that cannot be analysed."""
     out = Path(out)
     spec, groups = load_study(out)
     report = Path(report) if report else out / "report.md"
@@ -56,7 +60,8 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
               for name, group in groups.items()}
     files = make_figures(groups, lesions["base"], figures)
     analysis = Analysis(out, spec, groups, gaps(groups), lesions, claims,
-                        {k: os.path.relpath(v, report.parent) for k, v in files.items()})
+                        {k: os.path.relpath(v, report.parent) for k, v in files.items()},
+                        [Path(s) for s in sweeps], report.parent)
     report.write_text(markdown(analysis), encoding="utf-8")
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
@@ -95,7 +100,7 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _regime, _claims, _performance,
-                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity)
+                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -345,3 +350,23 @@ def _verdicts_by_setting(analysis: Analysis) -> list[str]:
     return ["| claim | " + " | ".join(names) + " |", "|---|" + "---|" * len(names), *rows, "",
             f"Same verdict under every setting: {', '.join(same) or 'none'}.\n",
             f"Verdict depends on the setting: {', '.join(differ) or 'none'}.\n"]
+
+
+def _sweeps(analysis: Analysis) -> list[str]:
+    """Each sweep's decision-rule table and the path to its own summary."""
+    if not analysis.sweeps:
+        return []
+    from .regime import regime_markdown
+    from .sweep import load_sweep
+    from .sweep_report import tidy_rows
+    lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
+             "The decision rule (docs/analysis.md, committed before the sweeps ran) applied to "
+             "each sweep; every sweep's full tables and figures are in its own summary.\n"]
+    for folder in analysis.sweeps:
+        spec = load_sweep(folder)
+        summary = os.path.relpath(folder / "summary.md", analysis.folder)
+        lines += [f"### {spec.name}\n", spec.description + "\n",
+                  f"Full tables and figures: [{summary}]({summary})\n"]
+        rule = regime_markdown(spec, tidy_rows(spec, folder))
+        lines += [line.replace("## ", "#### ", 1) for line in rule]
+    return lines
