@@ -3,8 +3,9 @@
 Each generation every econet is tested on the same ``trials`` random trial starts (one batch of
 population x trials environments, environment e = econet * trials + trial), the econets are
 ranked by fitness, the best ``parents`` are kept and each is copied population/parents times
-with mutation (genome.mutate; the reading of the paper is config evolution.mutation_mode). Every random draw comes from a stream named by (seed, run, generation,
-purpose), so a run is a pure function of its seed and can resume from any finished generation.
+with mutation (genome.mutate; which reading of the paper, config evolution.mutation_mode).
+Every random draw comes from a stream named by (seed, run, generation, purpose), so a run is a
+pure function of its seed and can resume from any finished generation.
 The loop that runs generations into a result folder is ``runs.evolve_into``; an ``Evaluator``
 is what it tests populations with (this in-process one, or the node graph's).
 """

@@ -243,9 +243,9 @@ def summarize(out: Path, runs: int) -> str:
     lines = [f"results: {Path(out).resolve()}"]
     for run in range(1, runs + 1):
         data = RunData(run_folder(out, run))
-        top = data.metrics["top_fitness"]
+        top, best = data.metrics["top_fitness"], int(data.metrics["best_fitness"][-1])
         lines.append(f"  run-{run:02d}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
-                     f"(gen {data.generations_done - 1}), best {int(data.metrics['best_fitness'][-1])}")
+                     f"(gen {data.generations_done - 1}), best {best}")
     lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
                  "genomes.npy, fitness.npy, best_genomes.npy")
     return "\n".join(lines)

@@ -123,6 +123,13 @@ def positive(p: Paired) -> bool:
     return bool(np.isfinite(p.diff.lo) and p.diff.lo > 0)
 
 
+def rises(what: str, p: Paired, digits: int = 3) -> Judged:
+    """The commonest rule: a paired difference that replicates with its interval above 0 and
+    partly with its mean above 0."""
+    return Judged(f"{what}: {said(p, digits)}", verdict(positive(p), p.diff.mean > 0), p.diff, p,
+                  what)
+
+
 # -- overall performance (Figure 3) ---------------------------------------------------------
 def fitness_ahead(ev: Evidence) -> Judged:
     w = ev.windows
@@ -146,11 +153,8 @@ def latency_close(ev: Evidence) -> Judged:
 
 def fewer_successes(ev: Evidence) -> Judged:
     w = ev.windows
-    late = ev.compare(("normal", "top_successes", w.final),
-                      ("three-layer", "top_successes", w.final))
-    return Judged(f"late successful trials: {said(late)}",
-                  verdict(positive(late), late.diff.mean > 0), late.diff, late,
-                  "normal - three-layer, late top-20 successful trials")
+    return rises("late successful trials, normal - three-layer", ev.compare(
+        ("normal", "top_successes", w.final), ("three-layer", "top_successes", w.final)), 2)
 
 
 def more_separations(ev: Evidence) -> Judged:
@@ -189,12 +193,10 @@ def random_fitness_low(ev: Evidence) -> Judged:
 
 def holds_still_early(ev: Evidence) -> Judged:
     w = ev.windows
-    start = ev.ratio("normal", "top_separations", "top_successes", w.start)
-    dip = ev.ratio("normal", "top_separations", "top_successes", w.dip)
-    fall = ev.paired(start, dip)
-    return Judged(f"separations per successful trial, {w.label(w.start)} - {w.label(w.dip)}: "
-                  f"{said(fall)}", verdict(positive(fall), fall.diff.mean > 0), fall.diff, fall,
-                  "start - early learning, separations per successful trial")
+    start, dip = (ev.ratio("normal", "top_separations", "top_successes", window)
+                  for window in (w.start, w.dip))
+    return rises(f"separations per successful trial, {w.label(w.start)} - {w.label(w.dip)}",
+                 ev.paired(start, dip), 2)
 
 
 # -- 1 joint locking (Figures 4, 5) ----------------------------------------------------------
@@ -319,11 +321,8 @@ def elbow_stays_coactivated(ev: Evidence) -> Judged:
 
 def elbow_coactivation_diminishes(ev: Evidence) -> Judged:
     w = ev.windows
-    change = ev.compare(("normal", "top_elbow_coact", w.final),
-                        ("normal", "top_elbow_coact", w.early))
-    return Judged(f"elbow deviation from coactivation, late - early: {said(change, 3)}",
-                  verdict(positive(change), change.diff.mean > 0), change.diff, change,
-                  "elbow coactivation deviation, late - early")
+    return rises("elbow deviation from coactivation, late - early", ev.compare(
+        ("normal", "top_elbow_coact", w.final), ("normal", "top_elbow_coact", w.early)))
 
 
 def coactivation_narrows(ev: Evidence) -> Judged:
@@ -353,11 +352,8 @@ def cocontraction(ev: Evidence) -> Judged:
 # -- 3 stereotyped approach movements (Figure 8, lesion) -------------------------------------
 def approach_increases(ev: Evidence) -> Judged:
     w = ev.windows
-    rise = ev.compare(("normal", "top_approach_fix", w.final),
-                      ("normal", "top_approach_fix", w.early))
-    return Judged(f"P(approach | fixated), late - early: {said(rise, 3)}",
-                  verdict(positive(rise), rise.diff.mean > 0), rise.diff, rise,
-                  "late - early, P(approach | fixated)")
+    return rises("P(approach | fixated), late - early", ev.compare(
+        ("normal", "top_approach_fix", w.final), ("normal", "top_approach_fix", w.early)))
 
 
 def quarter_away(ev: Evidence) -> Judged:
@@ -469,12 +465,10 @@ def approach_u(ev: Evidence) -> Judged:
 def early_slowdown(kind: str, ev: Evidence) -> Judged:
     w = ev.windows
     column = f"top_{kind}_speed_fix"
-    slower = ev.compare(("normal", column, w.start), ("normal", column, w.dip))
     unit = "units" if kind == "hand" else "deg"
-    return Judged(f"{kind} speed while fixating, {w.label(w.start)} - {w.label(w.dip)}: "
-                  f"{said(slower, 2)} {unit}/cycle",
-                  verdict(positive(slower), slower.diff.mean > 0),
-                  slower.diff, slower, f"start - dip, {kind} speed while fixating")
+    return rises(f"{kind} speed while fixating ({unit}/cycle), {w.label(w.start)} - "
+                 f"{w.label(w.dip)}", ev.compare(("normal", column, w.start),
+                                                 ("normal", column, w.dip)), 2)
 
 
 def slowdown_temporary(ev: Evidence) -> Judged:
@@ -503,10 +497,8 @@ def less_movement(ev: Evidence) -> Judged:
 
 def keeps_sight(ev: Evidence) -> Judged:
     w = ev.windows
-    more = ev.paired(_fixation_share(ev, w.dip), _fixation_share(ev, w.start))
-    return Judged(f"share of pre-contact cycles with the object in sight, dip - start: "
-                  f"{said(more, 3)}", verdict(positive(more), more.diff.mean > 0), more.diff,
-                  more, "dip - start, share of pre-contact cycles fixated")
+    return rises("share of pre-contact cycles with the object in sight, dip - start",
+                 ev.paired(_fixation_share(ev, w.dip), _fixation_share(ev, w.start)))
 
 
 def _fixation_share(ev: Evidence, window: slice) -> dict[str, float]:
