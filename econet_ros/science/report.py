@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import UsageError
+from ..runs import RunData, ensure_writable, write_atomically, writing
 from .lesion import LESION_TRIALS, lesion_study
 from .measures import ReachSummary
 from .study import ConditionData, StudySpec, load_study
@@ -486,12 +488,10 @@ def _smooth(curve: np.ndarray, k: int) -> np.ndarray:
 
 
 def _cycles(d: ConditionData) -> int:
-    from ..runs import RunData
     return RunData(d.run_dirs[0]).config.evolution.cycles
 
 
 def _trials(d: ConditionData) -> int:
-    from ..runs import RunData
     return RunData(d.run_dirs[0]).config.evolution.trials
 
 
@@ -522,7 +522,8 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
     def save(fig, name):
         fig.tight_layout()
         path = figures / f"{name}.png"
-        fig.savefig(path, dpi=110)
+        with writing(path):
+            fig.savefig(path, dpi=110)
         plt.close(fig)
         files[name] = path
 
@@ -678,15 +679,27 @@ def make_figures(groups, lesion, figures: Path, G: int) -> dict[str, str]:
 
 
 # -- the report -----------------------------------------------------------------------------------------
+def report_paths(out: Path, report: Path | None = None, figures: Path | None = None
+                 ) -> tuple[Path, Path]:
+    """Where the report and its figures go (default: OUT/report.md and the report's
+    folder/figures), checked to be writable: a bad path is refused before the work, not after."""
+    report = Path(report) if report else Path(out) / "report.md"
+    figures = Path(figures) if figures else report.parent / "figures"
+    for folder in (report.parent, figures):
+        ensure_writable(folder)
+    if report.is_dir():
+        raise UsageError(f"cannot write the report to {report}: it is a folder")
+    return report, figures
+
+
 def build_report(out: Path, report: Path | None = None, figures: Path | None = None
                  ) -> tuple[Path, list[str]]:
     """Analyse a study folder and write the report and figures; returns (report path, notes
-    about gaps). Raises study.StudyError for folders that cannot be analysed."""
+    about gaps). Raises ResultsError for a folder that cannot be analysed and UsageError for a
+    report or figures folder that cannot be written, both before any work."""
     out = Path(out)
     spec, groups = load_study(out)
-    report = Path(report) if report else out / "report.md"
-    figures = Path(figures) if figures else report.parent / "figures"
-    report.parent.mkdir(parents=True, exist_ok=True)
+    report, figures = report_paths(out, report, figures)
     G = spec.config.evolution.generations
 
     notes = []
@@ -703,8 +716,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
         claims[name] = evaluate_claims(merged, lesions[name], G)
     files = make_figures(groups, lesions["base"], figures, G)
     rel = {k: os.path.relpath(v, report.parent) for k, v in files.items()}
-    report.write_text(_markdown(spec, groups, claims, lesions, notes, rel, G, out),
-                      encoding="utf-8")
+    write_atomically(report, _markdown(spec, groups, claims, lesions, notes, rel, G, out))
     return report, notes
 
 
