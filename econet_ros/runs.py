@@ -101,7 +101,8 @@ class RunStore:
             genomes = initial_genomes()
             self._create(genomes)
             return 0, genomes
-        self._hold_writers(arrays)
+        with writing(self.path, then=RESUME):
+            self._hold_writers(arrays)
         return done, np.array(arrays["genomes"][done])
 
     def _recorded_generations(self) -> int | None:

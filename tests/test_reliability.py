@@ -465,3 +465,21 @@ def test_a_simulated_full_disk_at_the_start_leaves_no_arrays(tmp_path, capsys, m
     assert "the run's arrays need" in err
     assert not list(out.rglob("*.npy"))
     assert runs.finished_generations(out / "run-01") == 0
+
+
+def test_a_resume_onto_a_full_disk_is_one_line_and_changes_nothing(tmp_path, capsys,
+                                                                  monkeypatch, reference):
+    """A folder whose arrays still need their space reserved (made by an older version, as
+    sparse files) met by a resume on a full disk (simulated)."""
+    def two_generations_done(run: Path) -> None:
+        metrics = run / "metrics.csv"
+        metrics.write_bytes(b"".join(metrics.read_bytes().splitlines(keepends=True)[:3]))
+
+    out = damaged_copy(reference["tiny"], tmp_path, two_generations_done)
+    before = snapshot(out)
+    monkeypatch.setattr(os, "posix_fallocate", _no_space)
+    refused(capsys, main(["evolve", "--out", str(out), *TINY]), "disk full: cannot write")
+    assert snapshot(out) == before
+    monkeypatch.undo()
+    assert main(["evolve", "--out", str(out), *TINY]) == 0
+    assert_same_run(out / "run-01", reference["tiny"])
