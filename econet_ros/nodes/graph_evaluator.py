@@ -24,6 +24,7 @@ from ..topics import COMMAND, SENSORS
 from ..trials import TrialMeasures
 from ..world import TrialSetup
 from . import graph
+from .runner import check_stop
 
 
 class BatchFailed(GraphError):
@@ -125,7 +126,7 @@ class GraphEvaluator:
         self.last_touch = time.monotonic()
         heard = self.touch.setdefault(trial, {})
         while len(heard) < cycles + 1:
-            self.executor.spin_once(timeout_sec=0.05)
+            self._spin_once()
             heard = self.touch.setdefault(trial, {})
             self._check_alive(len(heard) - 1, cycles)
         contact = np.empty((cycles, n), dtype=bool)
@@ -178,8 +179,13 @@ class GraphEvaluator:
         while not done():
             if time.monotonic() > deadline:
                 return False
-            self.executor.spin_once(timeout_sec=0.05)
+            self._spin_once()
         return True
+
+    def _spin_once(self) -> None:
+        """Serve callbacks for a moment; Stopped (ends the node quietly) after a signal."""
+        check_stop()
+        self.executor.spin_once(timeout_sec=0.05)
 
     def _call(self, client, request, what: str):
         if not client.service_is_ready():

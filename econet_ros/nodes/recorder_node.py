@@ -17,18 +17,21 @@ import rclpy
 from rclpy.node import Node
 
 from ..errors import BagError, ConfigError
-from .runner import declare, run_node
+from .runner import Param, declare_parameters, run_node, stop_requested
 from .topic_recorder import ALL_TOPICS, TopicRecorder
+
+
+PARAMETERS = (
+    Param("out", "", "bag folder to create (must not exist); empty = bags/econet-YYYYmmdd-HHMMSS"),
+    Param("topics", ",".join(ALL_TOPICS), "comma-separated topics to record (relative names)"),
+)
 
 
 class RecorderNode(Node):
     def __init__(self):
         super().__init__("recorder")
-        out = declare(self, "out", "",
-                      "bag folder to create (must not exist); empty = "
-                      "bags/econet-YYYYmmdd-HHMMSS")
-        topics = declare(self, "topics", ",".join(ALL_TOPICS),
-                         "comma-separated topics to record (relative names)")
+        v = declare_parameters(self, PARAMETERS)
+        out, topics = v["out"], v["topics"]
         self.out = Path(out or time.strftime("bags/econet-%Y%m%d-%H%M%S"))
         if self.out.exists():
             raise ConfigError(f"bag {self.out} exists already (a bag is a new folder)")
@@ -46,10 +49,10 @@ class RecorderNode(Node):
 
 def _body(node: RecorderNode, executor) -> int:
     try:
-        while rclpy.ok():
+        while rclpy.ok() and not stop_requested():
             executor.spin_once(timeout_sec=0.2)
     finally:
-        node.recorder.stop()          # Ctrl-C, SIGTERM (rclpy's handler shuts down) or error
+        node.recorder.stop()          # Ctrl-C, SIGTERM or an error
         print(f"recorder_node: bag closed: {node.out}", file=sys.stderr)
     return 0
 
@@ -62,7 +65,8 @@ def main(args: list[str] | None = None) -> int:
         return node_holder["node"]
 
     try:
-        return run_node("recorder_node", make, args, body=_body)
+        return run_node("recorder_node", make, args, body=_body, parameters=PARAMETERS,
+                        doc=__doc__)
     finally:
         node = node_holder.get("node")
         if node is not None:

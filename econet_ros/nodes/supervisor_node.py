@@ -38,39 +38,42 @@ from ..plugins import resolve
 from ..runs import ensure_writable, run_condition
 from . import graph
 from .graph_evaluator import GraphEvaluator
-from .runner import declare, declare_setting, node_config, run_node
+from .runner import Param, declare_parameters, default_from, node_config, run_node
 
-# Parameters beyond the config's evolution settings: name -> (default, description).
-RUN_PARAMETERS = {
-    "seed": (1, "base random seed; a run is a pure function of it"),
-    "runs": (1, "independent runs, written to out/run-01, run-02, ..."),
-    "out": ("results/graph", "output folder (same layout as econet evolve --out)"),
-    "controller": ("", "controller the controller node runs, if not the condition's network: a "
-                       "registered name or module:Class (its n_params sizes the genomes)"),
-    "record_every": (0, "record the best econet's trials as a bag every this many generations "
-                        "(and the last); 0 = never"),
-    "record_dir": ("", "folder of the bags; empty = <out>/bags"),
-    "overwrite": (False, "delete out/run-* first instead of resuming them"),
-    "stall_timeout_sec": (3.0, "test a generation again when no cycle arrives for this long"),
-    "service_timeout_sec": (5.0, "wait this long for a service reply before retrying"),
-    "linger_sec": (1.0, "stay this long after the last generation so that late monitors "
-                        "receive the final progress messages"),
-}
+# Parameters beyond the config's evolution settings.
+RUN_PARAMETERS = (
+    Param("seed", 1, "base random seed; a run is a pure function of it", low=0),
+    Param("runs", 1, "independent runs, written to out/run-01, run-02, ...", low=1),
+    Param("out", "results/graph", "output folder (same layout as econet evolve --out)"),
+    Param("controller", "", "controller the controller node runs, if not the condition's "
+                            "network: a registered name or module:Class (its n_params sizes "
+                            "the genomes)"),
+    Param("record_every", 0, "record the best econet's trials as a bag every this many "
+                             "generations (and the last); 0 = never", low=0),
+    Param("record_dir", "", "folder of the bags; empty = <out>/bags"),
+    Param("overwrite", False, "delete out/run-* first instead of resuming them"),
+    Param("stall_timeout_sec", 3.0, "test a generation again when no cycle arrives for this "
+                                    "long", low=0.01),
+    Param("service_timeout_sec", 5.0, "wait this long for a service reply before retrying",
+          low=0.01),
+    Param("linger_sec", 1.0, "stay this long after the last generation so that late monitors "
+                             "receive the final progress messages", low=0.0),
+)
+EVOLUTION = tuple(item for item in SETTINGS if item.section == "evolution")
+PARAMETERS = (Param("config", "", "JSON config file (as econet --config); it gives the "
+                                  "defaults of the evolution settings below"),
+              *map(Param.of_setting, EVOLUTION), *RUN_PARAMETERS)
 
 
 class SupervisorNode(Node):
     def __init__(self, **node_options):
         """node_options go to rclpy's Node (e.g. namespace, parameter_overrides)."""
         super().__init__("supervisor", **node_options)
-        base = node_config(declare(self, "config", "", "JSON config file (as econet --config); "
-                                   "it gives the defaults of the parameters below"))
-        changes = {item.key: declare_setting(self, item._replace(
-            default=getattr(base.evolution, item.name))) for item in SETTINGS
-            if item.section == "evolution"}
-        self.v = {name: declare(self, name, default, text)
-                  for name, (default, text) in RUN_PARAMETERS.items()}
-        if self.v["runs"] < 1 or self.v["seed"] < 0 or self.v["record_every"] < 0:
-            raise ConfigError("runs must be at least 1, seed and record_every at least 0")
+        self.v = declare_parameters(self, PARAMETERS)
+        base = node_config(self.v["config"])
+        default_from(self, self.v, {item.name: getattr(base.evolution, item.name)
+                                    for item in EVOLUTION})
+        changes = {item.key: self.v[item.name] for item in EVOLUTION}
         self.config = base.replace(**changes)
         self.out = Path(self.v["out"])
         ensure_writable(self.out)
@@ -165,7 +168,8 @@ def _body(node: SupervisorNode, executor) -> int:
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("supervisor_node", SupervisorNode, args, body=_body)
+    return run_node("supervisor_node", SupervisorNode, args, body=_body, parameters=PARAMETERS,
+                    doc=__doc__)
 
 
 if __name__ == "__main__":

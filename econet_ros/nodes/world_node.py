@@ -26,44 +26,41 @@ from ..errors import ConfigError, SetupError
 from ..topics import COMMAND, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
 from . import graph
-from .runner import declare, node_config, run_node
+from .runner import Param, declare_parameters, node_config, run_node
 
 MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
+
+PARAMETERS = (
+    Param("n_envs", 1, "environments at start-up (a reset may change it)", low=1),
+    Param("config", "", "JSON config file (as econet --config); only its model section is "
+                        "used; empty = the paper's defaults"),
+    Param("mode", "lockstep", "lockstep: advance one cycle per matching muscle command; free: "
+                              "advance at rate_hz with the newest command", choices=MODES),
+    Param("rate_hz", 10.0, "cycles per second in free mode", low=0.01, high=10000.0),
+    Param("trial_cycles", 100, "free mode: start a new random trial after this many cycles "
+                               "(0 = never)", low=0),
+    Param("seed", 0, "seed of the trials free mode draws (trial k uses seed + k)", low=0),
+    Param("display_env", 0, "environment shown on joint_states and markers (below n_envs)",
+          low=0),
+    Param("display_rate_hz", 20.0, "most joint_states/markers pictures per second (0 = every "
+                                   "cycle, costly in lockstep)", low=0.0),
+    Param("frame_id", "econet", "frame of the markers: the agent at its origin, x right, y up, "
+                                "one workspace unit = 1 m"),
+)
 
 
 class WorldNode(Node):
     def __init__(self):
         super().__init__("world")
-        n_envs = declare(self, "n_envs", 1,
-                         "environments at start-up (a reset may change it)")
-        config_path = declare(self, "config", "",
-                              "JSON config file (as econet --config); only its model "
-                              "section is used; empty = the paper's defaults")
-        self.mode = declare(self, "mode", "lockstep",
-                            "lockstep: advance one cycle per matching muscle command; "
-                            "free: advance at rate_hz with the newest command")
-        rate = declare(self, "rate_hz", 10.0, "cycles per second in free mode")
-        self.free_cycles = declare(self, "trial_cycles", 100,
-                                   "free mode: start a new random trial after this many "
-                                   "cycles (0 = never)")
-        self.seed = declare(self, "seed", 0,
-                            "seed of the trials free mode draws (trial k uses seed + k)")
-        self.display_env = declare(self, "display_env", 0,
-                                   "environment shown on joint_states and markers")
-        display_rate = declare(self, "display_rate_hz", 20.0,
-                               "most joint_states/markers pictures per second "
-                               "(0 = every cycle, costly in lockstep)")
-        self.frame_id = declare(self, "frame_id", "econet",
-                                "frame of the markers (agent at the origin, units = "
-                                "workspace units)")
-        if self.mode not in MODES:
-            raise ConfigError(f"mode must be one of {', '.join(MODES)}, got '{self.mode}'")
-        if n_envs < 1:
-            raise ConfigError(f"n_envs must be at least 1, got {n_envs}")
-        if rate <= 0:
-            raise ConfigError(f"rate_hz must be positive, got {rate}")
-        self.model = node_config(config_path).model
+        v = declare_parameters(self, PARAMETERS)
+        n_envs, rate, display_rate = v["n_envs"], v["rate_hz"], v["display_rate_hz"]
+        self.mode, self.free_cycles, self.seed = v["mode"], v["trial_cycles"], v["seed"]
+        self.display_env, self.frame_id = v["display_env"], v["frame_id"]
+        if self.display_env >= n_envs:
+            raise ConfigError(f"display_env must be below n_envs ({n_envs}), got "
+                              f"{self.display_env}")
+        self.model = node_config(v["config"]).model
         self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
         self._last_display = -math.inf
 
@@ -254,7 +251,7 @@ class WorldNode(Node):
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("world_node", WorldNode, args)
+    return run_node("world_node", WorldNode, args, parameters=PARAMETERS, doc=__doc__)
 
 
 if __name__ == "__main__":
