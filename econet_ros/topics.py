@@ -19,7 +19,31 @@ from .world import N_PROPRIO, Observation, TrialSetup
 class Topic(NamedTuple):
     name: str          # relative topic name
     type: str          # ROS interface type, e.g. econet_msgs/msg/Retina
-    qos: str           # lockstep | latched | display | progress (nodes/graph.py: QOS)
+    qos: str           # a kind of QOS_KINDS
+
+
+class Qos(NamedTuple):
+    """A QoS profile in rosbag2's words (metadata.yaml's offered_qos_profiles)."""
+
+    history: str       # keep_all | keep_last
+    depth: int
+    reliability: str   # reliable | best_effort
+    durability: str    # volatile | transient_local
+
+
+QOS_KINDS = {
+    # Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher
+    # keeps each message until every reader (controller, supervisor, a recorder) has it.
+    "lockstep": Qos("keep_all", 0, "reliable", "volatile"),
+    # Trial starts: a recorder that joins mid-trial still learns how the current trial started;
+    # the depth covers resets in quick succession, so that none is replaced before a recorder
+    # has it (recorders keep only the starts of trials they hear).
+    "latched": Qos("keep_last", 100, "reliable", "transient_local"),
+    # Display topics: only the newest picture matters.
+    "display": Qos("keep_last", 5, "reliable", "volatile"),
+    # Progress: late joiners get the latest generations too.
+    "progress": Qos("keep_last", 10, "reliable", "transient_local"),
+}
 
 
 # In the order a bag adds its connections.

@@ -11,27 +11,21 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import WireError
-from ..topics import COMMAND, LOCKSTEP, SENSORS, SERVICES, TOPICS, command_fields, sensor_fields
+from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, SENSORS, SERVICES, TOPICS, command_fields,
+                      sensor_fields)
 from ..world import Observation
 from .wire import Codec
 
-QOS = {
-    # Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher
-    # keeps each message until every reader (controller, supervisor, a recorder) has it.
-    "lockstep": QoSProfile(history=HistoryPolicy.KEEP_ALL,
-                           reliability=ReliabilityPolicy.RELIABLE),
-    # Trial starts: a recorder that joins mid-trial still learns how the current trial started.
-    "latched": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                          reliability=ReliabilityPolicy.RELIABLE,
-                          durability=DurabilityPolicy.TRANSIENT_LOCAL),
-    # Display topics: only the newest picture matters.
-    "display": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5,
-                          reliability=ReliabilityPolicy.RELIABLE),
-    # Progress: late joiners get the latest generations too.
-    "progress": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
-                           reliability=ReliabilityPolicy.RELIABLE,
-                           durability=DurabilityPolicy.TRANSIENT_LOCAL),
-}
+def _profile(spec) -> QoSProfile:
+    """The rclpy profile of a QoS kind of the topic table."""
+    return QoSProfile(
+        history=HistoryPolicy[spec.history.upper()],
+        depth=max(spec.depth, 1),                     # ignored for keep_all
+        reliability=ReliabilityPolicy[spec.reliability.upper()],
+        durability=DurabilityPolicy[spec.durability.upper()])
+
+
+QOS = {kind: _profile(spec) for kind, spec in QOS_KINDS.items()}
 LOCKSTEP_QOS = QOS["lockstep"]
 
 

@@ -80,15 +80,16 @@ class GraphEvaluator:
     def run_batch(self, weights_request, reset_request, where: str, bag: Path | None = None,
                   custom: dict | None = None) -> np.ndarray:
         """(cycles, n_envs) contact history of one batch, retried until it finishes; with
-        ``bag``, the attempt that finishes is recorded (into bag.partial, renamed to bag)."""
+        ``bag``, the attempt that finishes is recorded (as <bag>.partial/<name>, moved to
+        <bag> when complete, so that its MCAP file is <name>.mcap)."""
         attempt = 0
         while True:
             attempt += 1
-            partial = bag.with_name(bag.name + ".partial") if bag else None
+            partial = bag.parent / f"{bag.name}.partial" / bag.name if bag else None
             try:
                 if partial:
-                    shutil.rmtree(partial, ignore_errors=True)
-                    partial.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.rmtree(partial.parent, ignore_errors=True)
+                    partial.parent.mkdir(parents=True)
                     # messages of trials before the next reset are stragglers (a retry may
                     # follow a restarted world, whose trials count from 1 again)
                     self.recorder.start(partial, custom,
@@ -98,6 +99,7 @@ class GraphEvaluator:
                     self._finish_recording(reset_request.cycles)
                     self.recorder.stop()
                     partial.rename(bag)
+                    partial.parent.rmdir()
                 return contact
             except BatchFailed as why:
                 self.node.get_logger().warning(

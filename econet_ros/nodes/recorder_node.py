@@ -5,7 +5,11 @@ available from PyPI; on a ROS 2 machine ``ros2 bag record`` of the same topics w
 Subscribes  trial_start, retina, proprioception, touch, muscle_command, joint_states, markers
             (or the `topics` parameter's subset), raw: messages are stored as they arrive
 
-Ctrl-C or SIGTERM closes the bag, which then opens and holds everything recorded before.
+It says "recording" only once every recorded topic has a matched publisher (before that,
+"waiting for publishers of ..."), so that what is started after that line is in the bag from
+its first message. Ctrl-C or SIGTERM closes the bag, which then opens and holds everything
+recorded before; a recorder killed outright (SIGKILL, power loss) leaves a bag without
+metadata.yaml that loses at most the last second: ``econet bag repair BAG`` recovers it.
 """
 from __future__ import annotations
 
@@ -20,9 +24,9 @@ from ..errors import BagError, ConfigError
 from .runner import Param, declare_parameters, run_node, stop_requested
 from .topic_recorder import ALL_TOPICS, TopicRecorder
 
-
 PARAMETERS = (
-    Param("out", "", "bag folder to create (must not exist); empty = bags/econet-YYYYmmdd-HHMMSS"),
+    Param("out", "", "bag folder to create (must not exist); empty = "
+                     "bags/econet-YYYYmmdd-HHMMSS"),
     Param("topics", ",".join(ALL_TOPICS), "comma-separated topics to record (relative names)"),
 )
 
@@ -44,7 +48,17 @@ class RecorderNode(Node):
             self.recorder.start(self.out, {"econet.source": "recorder_node"})
         except OSError as error:
             raise BagError(f"cannot create bag {self.out}: {error.strerror or error}") from None
-        self.get_logger().info(f"recording {', '.join(names)} to {self.out}")
+        self.names = names
+        self.get_logger().info(f"bag {self.out} open; waiting for publishers of "
+                               f"{', '.join(self.recorder.unmatched())}")
+        self.waiting = self.create_timer(0.05, self._check_matched)
+
+    def _check_matched(self) -> None:
+        """Say "recording" once every recorded topic has a matched publisher."""
+        if self.recorder.unmatched():
+            return
+        self.waiting.cancel()
+        self.get_logger().info(f"recording {', '.join(self.names)} to {self.out}")
 
 
 def _body(node: RecorderNode, executor) -> int:
@@ -58,19 +72,8 @@ def _body(node: RecorderNode, executor) -> int:
 
 
 def main(args: list[str] | None = None) -> int:
-    node_holder = {}
-
-    def make():
-        node_holder["node"] = RecorderNode()
-        return node_holder["node"]
-
-    try:
-        return run_node("recorder_node", make, args, body=_body, parameters=PARAMETERS,
-                        doc=__doc__)
-    finally:
-        node = node_holder.get("node")
-        if node is not None:
-            node.recorder.stop()
+    return run_node("recorder_node", RecorderNode, args, body=_body, parameters=PARAMETERS,
+                    doc=__doc__)
 
 
 if __name__ == "__main__":

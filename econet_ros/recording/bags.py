@@ -31,8 +31,8 @@ import numpy as np
 
 from ..config import ModelConfig, model_from_json
 from ..errors import BagError, ConfigError
-from ..topics import (COMMAND, DISPLAY, LOCKSTEP, RECORDED, TOPICS, command_fields,
-                      sensor_fields, trial_start_fields)
+from ..topics import (COMMAND, DISPLAY, LOCKSTEP, QOS_KINDS, RECORDED, TOPICS, Qos,
+                      command_fields, sensor_fields, trial_start_fields)
 from ..trials import TrialMeasures
 from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World
 
@@ -77,13 +77,29 @@ def header(data) -> tuple[int, int]:
 
 # -- writing ----------------------------------------------------------------------------------
 
+_INFINITE = (9223372036, 854775807)     # rosbag2's "no limit" duration (sec, nsec)
+
+
+def offered_qos(spec: Qos):
+    """A QoS kind of the topic table as rosbags writes it into metadata.yaml, so that a replay
+    (``ros2 bag play``) offers what the graph offered, e.g. trial_start's transient local."""
+    from rosbags.interfaces import (Qos as BagQos, QosDurability, QosHistory, QosLiveliness,
+                                    QosReliability, QosTime)
+    return BagQos(QosHistory[spec.history.upper()], spec.depth,
+                  QosReliability[spec.reliability.upper()],
+                  QosDurability[spec.durability.upper()], QosTime(*_INFINITE),
+                  QosTime(*_INFINITE), QosLiveliness.AUTOMATIC, QosTime(*_INFINITE), False)
+
+
 class BagWriter:
-    """A rosbag2 bag being written: ``write(topic, t_ns, cdr_bytes)``, then ``close()``.
+    """A rosbag2 bag being written: ``write(topic, t_ns, cdr_bytes)``, ``flush()`` now and
+    then, then ``close()``.
 
     ``topics`` maps each topic name as it should appear in the bag (e.g. '/retina') to its
-    message type. Closing writes metadata.yaml; close() is idempotent and must run even on
-    Ctrl-C or SIGTERM (the recorder and supervisor close in ``finally``), else the bag lacks
-    its metadata."""
+    message type; each is offered with the QoS of its kind in the topic table. Closing writes
+    metadata.yaml; close() is idempotent and must run even on Ctrl-C or SIGTERM (the recorder
+    and supervisor close in ``finally``). A bag whose writer was killed has no metadata.yaml
+    and no MCAP footer, but every chunk flushed before: ``econet bag repair`` recovers it."""
 
     def __init__(self, path: Path, topics: dict[str, str], custom: dict[str, str] | None = None):
         from rosbags.rosbag2 import StoragePlugin, Writer, WriterError
@@ -98,8 +114,10 @@ class BagWriter:
         except (WriterError, OSError) as error:
             raise BagError(f"cannot create bag {self.path}: {error}") from None
         store = typestore()
-        self._connections = {topic: self._writer.add_connection(topic, msgtype, typestore=store)
-                             for topic, msgtype in topics.items()}
+        self._connections = {
+            topic: self._writer.add_connection(topic, msgtype, typestore=store,
+                                               offered_qos_profiles=_offered_for(topic))
+            for topic, msgtype in topics.items()}
         self.counts = dict.fromkeys(topics, 0)
         self.closed = False
 
@@ -108,6 +126,17 @@ class BagWriter:
             return
         self._writer.write(self._connections[topic], int(t_ns), bytes(data))
         self.counts[topic] += 1
+
+    def flush(self) -> None:
+        """Put every message written so far on disk as complete MCAP chunks, so that a kill
+        loses only what came after. (rosbags' MCAP storage writes a chunk only once it holds
+        1 MiB and has no call for this; its chunk and file are reached directly.)"""
+        storage = self._writer.storage
+        if self.closed or storage is None:
+            return
+        if storage.chunk.msgs:
+            storage.close_chunk()
+        storage.bio.flush()
 
     def close(self) -> None:
         if not self.closed:
@@ -119,6 +148,11 @@ class BagWriter:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _offered_for(topic: str) -> list:
+    known = TOPICS.get(_short(topic))
+    return [offered_qos(QOS_KINDS[known.qos])] if known else []
 
 
 class TrialBagWriter:
@@ -222,6 +256,8 @@ class Bag:
     custom: dict[str, str]
     trials: list[RecordedTrial] = field(default_factory=list)
     duration_s: float = 0.0
+    # trials heard without their trial_start (cannot be assembled): trial -> messages
+    unstarted: dict[int, int] = field(default_factory=dict)
 
     def count(self, short: str) -> int:
         """Messages on a topic given by its last name part (e.g. 'retina')."""
@@ -239,7 +275,10 @@ def check_path(path: Path) -> Path:
         raise BagError(f"{path}: no such bag (no file or folder of that name)")
     if path.is_dir():
         if not (path / "metadata.yaml").is_file():
-            raise BagError(f"{path} is not a rosbag2 bag: the folder has no metadata.yaml")
+            hint = f" (its recorder was killed?): econet bag repair {path} recovers it" \
+                if any(path.glob("*.mcap")) else ""
+            raise BagError(f"{path} is not a rosbag2 bag: the folder has no metadata.yaml"
+                           f"{hint}")
     elif path.suffix != ".mcap":
         raise BagError(f"{path} is not a bag: expected a bag folder or an .mcap file")
     return path
@@ -272,11 +311,16 @@ def read_bag(path: Path) -> Bag:
         raise
     except Exception as error:   # noqa: BLE001 - rosbags raises many kinds; one line for all
         text = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-        raise BagError(f"cannot read bag {path}: {text}") from None
+        raise BagError(f"cannot read bag {path}: {text} (if its recorder was killed, econet "
+                       f"bag repair {path} recovers its complete chunks)") from None
     bag = Bag(path, topics, custom,
               duration_s=((last - first) / 1e9) if first is not None else 0.0)
     for trial in sorted(starts):
         bag.trials.append(_assemble(starts[trial], parts))
+    for messages in parts.values():
+        for m in messages:
+            if m.trial not in starts:
+                bag.unstarted[m.trial] = bag.unstarted.get(m.trial, 0) + 1
     return bag
 
 
