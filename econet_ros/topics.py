@@ -43,6 +43,8 @@ QOS_KINDS = {
     "display": Qos("keep_last", 5, "reliable", "volatile"),
     # Progress: late joiners get the latest generations too.
     "progress": Qos("keep_last", 10, "reliable", "transient_local"),
+    # Static transforms, as tf2's static broadcaster offers them.
+    "static": Qos("keep_last", 1, "reliable", "transient_local"),
 }
 
 
@@ -57,6 +59,10 @@ TOPICS: dict[str, Topic] = {t.name: t for t in (
     Topic("markers", "visualization_msgs/msg/MarkerArray", "display"),
     Topic("progress", "econet_msgs/msg/EvolutionProgress", "progress"),
 )}
+# Where the econet frame sits (recording/display.py); absolute, as tf2 names it.
+TF_STATIC = Topic("/tf_static", "tf2_msgs/msg/TFMessage", "static")
+FRAME = "econet"
+
 SENSORS = ("retina", "proprioception", "touch")     # one message each per cycle, in this order
 COMMAND = "muscle_command"                          # one per cycle but the last
 LOCKSTEP = (*SENSORS, COMMAND)

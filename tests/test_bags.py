@@ -16,7 +16,7 @@ from econet_ros.config import Config
 from econet_ros.plugins import make_controller
 from econet_ros.world import World, sample_setups
 
-from graph_helpers import call, ros_session, spin_until
+from graph_helpers import REPO, call, ros_session, spin_until
 
 SMALL = {"population": 6, "parents": 2, "trials": 3, "cycles": 40}
 
@@ -276,3 +276,40 @@ def test_killed_recorder_loses_at_most_the_last_second_and_repairs(ros, tmp_path
     recorded = set(np.flatnonzero(trial.have_sensors))
     wanted = {cycle for t, _, cycle in heard if t < killed_at - 1.0}
     assert len(wanted) > 50 and wanted <= recorded
+
+
+def test_evaluate_record_carries_pictures_frame_and_real_time(tmp_path):
+    """`econet evaluate --record` bags hold joint_states and markers every cycle, the /tf_static
+    of their frame, wall-clock stamps that increase; the Foxglove layout in docs/ shows them."""
+    import json
+    from rosbags.rosbag2 import Reader
+    from econet_ros.recording.messages import typestore
+
+    bag, before = tmp_path / "pictured", time.time_ns()
+    assert main(["evaluate", "--controller", "reacher", "--trials", "2", "--cycles", "20",
+                 "--record", str(bag)]) == 0
+    after = time.time_ns()
+    store = typestore()
+    with Reader(bag) as reader:
+        messages = [(c.topic, t, store.deserialize_cdr(raw, c.msgtype))
+                    for c, t, raw in reader.messages()]
+    stamps = [t for _, t, _ in messages]
+    assert stamps == sorted(set(stamps)) and before <= stamps[0] and stamps[-1] <= after
+    by_topic = {}
+    for topic, _, msg in messages:
+        by_topic.setdefault(topic, []).append(msg)
+    assert len(by_topic["/joint_states"]) == len(by_topic["/markers"]) == 21
+    (static,) = by_topic["/tf_static"]
+    (transform,) = static.transforms
+    assert (transform.header.frame_id, transform.child_frame_id) == ("map", "econet")
+    markers = by_topic["/markers"][0].markers
+    assert [m.ns for m in markers] == ["arm", "hand", "eye_field", "object"]
+    assert {m.header.frame_id for m in markers} == {"econet"}
+    assert list(by_topic["/joint_states"][0].name) == ["body", "shoulder", "elbow"]
+
+    layout = json.loads((REPO / "docs" / "foxglove-layout.json").read_text())
+    scene = layout["configById"]["3D!econet"]
+    assert scene["followTf"] == "econet" and scene["topics"]["/markers"]["visible"]
+    paths = [p["value"].split(".")[0] for p in layout["configById"]["Plot!joints"]["paths"]]
+    assert set(paths) | {layout["configById"]["RawMessages!touch"]["topicPath"]} <= \
+        set(by_topic)

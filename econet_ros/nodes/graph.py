@@ -11,8 +11,8 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import WireError
-from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, SENSORS, SERVICES, TOPICS, command_fields,
-                      sensor_fields)
+from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, SENSORS, SERVICES, TF_STATIC, TOPICS,
+                      command_fields, sensor_fields)
 from ..world import Observation
 from .wire import Codec
 
@@ -53,6 +53,17 @@ def publisher(node: Node, topic: str):
 
 def subscription(node: Node, topic: str, callback, raw: bool = False):
     return node.create_subscription(message_class(topic), topic, callback, qos(topic), raw=raw)
+
+
+def tf_static_publisher(node: Node):
+    """A publisher of /tf_static, or None where tf2_msgs is not installed (it is not among the
+    ROS 2 wheels on PyPI; every ROS 2 installation has it)."""
+    try:
+        importlib.import_module("tf2_msgs.msg")
+    except ImportError:
+        return None
+    return node.create_publisher(interface(TF_STATIC.type), TF_STATIC.name,
+                                 QOS[TF_STATIC.qos])
 
 
 # -- lockstep messages as bytes (see wire) -----------------------------------------------------
@@ -106,5 +117,5 @@ def typed(fields: dict) -> dict:
 
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
-           "service_class", "publisher", "subscription", "decode", "encode_sensors",
-           "encode_command", "f64", "as_f64", "as_u8", "typed"]
+           "service_class", "publisher", "subscription", "tf_static_publisher", "decode",
+           "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]

@@ -65,10 +65,22 @@ def _body(node: RecorderNode, executor) -> int:
     try:
         while rclpy.ok() and not stop_requested():
             executor.spin_once(timeout_sec=0.2)
+        _drain(node.recorder, executor)
     finally:
         node.recorder.stop()          # Ctrl-C, SIGTERM or an error
         print(f"recorder_node: bag closed: {node.out}", file=sys.stderr)
     return 0
+
+
+def _drain(recorder: TopicRecorder, executor, most_sec: float = 1.0) -> None:
+    """After a signal: take what had arrived before it (until nothing comes for 50 ms, at
+    most a second), so that the bag holds every message sent before the signal."""
+    deadline = time.monotonic() + most_sec
+    while time.monotonic() < deadline:
+        before = recorder.received
+        executor.spin_once(timeout_sec=0.05)
+        if recorder.received == before:
+            return
 
 
 def main(args: list[str] | None = None) -> int:

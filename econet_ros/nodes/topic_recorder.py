@@ -7,6 +7,7 @@ What goes in, so that a bag reads as documented (docs/bags.md):
   for trials that have some (a recorder that joins late receives the recent starts as history);
 - display pictures only after the bag's first ``trial_start``, so none of an earlier trial
   comes first;
+- a /tf_static for the pictures' frame before the first of them (the frame read from it);
 - everything on disk every FLUSH_SEC, so that a recorder killed outright loses at most the
   last second (``econet bag repair`` makes such a bag whole again).
 """
@@ -18,8 +19,9 @@ from pathlib import Path
 from rclpy.node import Node
 
 from ..errors import ConfigError
+from ..recording import display
 from ..recording.bags import BagWriter, header
-from ..topics import DISPLAY, LOCKSTEP, RECORDED, TOPICS
+from ..topics import DISPLAY, LOCKSTEP, RECORDED, TF_STATIC, TOPICS
 from . import graph
 
 ALL_TOPICS = RECORDED
@@ -42,6 +44,8 @@ class TopicRecorder:
         self.min_trial = 0      # drop econet messages of earlier trials (late stragglers)
         self.starts: dict[int, tuple[int, bytes]] = {}   # trial -> its trial_start, unwritten
         self.shown = False      # a trial_start is in the bag: display pictures may follow
+        self.framed = False     # the pictures' /tf_static is in the bag
+        self.received = 0       # messages taken, in or out of a bag
         self.lockstep_recorded = any(t in LOCKSTEP for t in self.topics)
         self.subscriptions = {topic: graph.subscription(
             node, topic, lambda data, t=topic: self._on(t, data), raw=True)
@@ -58,8 +62,9 @@ class TopicRecorder:
         self.min_trial = min_trial
         self.heard.clear()
         self.starts.clear()
-        self.shown = False
-        self.writer = BagWriter(path, {self.names[t]: TOPICS[t].type for t in self.topics},
+        self.shown = self.framed = False
+        self.writer = BagWriter(path, {TF_STATIC.name: TF_STATIC.type,
+                                       **{self.names[t]: TOPICS[t].type for t in self.topics}},
                                 custom)
         return self.writer
 
@@ -74,11 +79,16 @@ class TopicRecorder:
             writer.close()
 
     def _on(self, topic: str, data: bytes) -> None:
+        self.received += 1
         if self.writer is None:
             return
         now = self.node.get_clock().now().nanoseconds
         if topic in DISPLAY:
             if self.shown:
+                if not self.framed:
+                    self.writer.write(TF_STATIC.name, now,
+                                      display.tf_static(display.frame_of(topic, data), now))
+                    self.framed = True
                 self._write(topic, now, data)
             return
         trial = header(data)[0]

@@ -4,7 +4,9 @@ in lockstep with a controller, or free-running at a fixed rate for demonstration
 Publishes   trial_start (econet_msgs/TrialStart) at every reset; retina (econet_msgs/Retina),
             proprioception (econet_msgs/Proprioception) and touch (econet_msgs/Touch) once per
             cycle; joint_states (sensor_msgs/JointState) and markers
-            (visualization_msgs/MarkerArray) for one display environment, throttled
+            (visualization_msgs/MarkerArray) for one display environment, throttled, built by
+            recording/display.py and sent as bytes; /tf_static (tf2_msgs/TFMessage) once,
+            where tf2_msgs is installed
 Subscribes  muscle_command (econet_msgs/MuscleCommand)
 Serves      reset_trials (econet_msgs/ResetTrials)
 """
@@ -15,15 +17,13 @@ import sys
 import time
 
 import numpy as np
-from geometry_msgs.msg import Point
 from rclpy.node import Node
-from sensor_msgs.msg import JointState
-from visualization_msgs.msg import Marker, MarkerArray
 
 from econet_msgs.msg import TrialStart
 
 from ..errors import ConfigError, SetupError
-from ..topics import COMMAND, SENSORS, trial_start_fields
+from ..recording import display
+from ..topics import COMMAND, FRAME, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
 from . import graph
 from .runner import Param, declare_parameters, node_config, run_node
@@ -45,8 +45,9 @@ PARAMETERS = (
           low=0),
     Param("display_rate_hz", 20.0, "most joint_states/markers pictures per second (0 = every "
                                    "cycle, costly in lockstep)", low=0.0),
-    Param("frame_id", "econet", "frame of the markers: the agent at its origin, x right, y up, "
-                                "one workspace unit = 1 m"),
+    Param("frame_id", FRAME, "frame of the pictures: the agent at its origin, x right, y up, "
+                             "one workspace unit = 1 m; /tf_static puts it at the origin of "
+                             "map"),
 )
 
 
@@ -78,6 +79,7 @@ class WorldNode(Node):
         self.pub_start = graph.publisher(self, "trial_start")
         self.pub_joints = graph.publisher(self, "joint_states")
         self.pub_markers = graph.publisher(self, "markers")
+        self._publish_frame()
         graph.subscription(self, COMMAND, self._on_command, raw=True)
         self.create_service(graph.service_class("reset_trials"), "reset_trials", self._on_reset)
 
@@ -86,11 +88,24 @@ class WorldNode(Node):
             self.create_timer(1.0 / rate, self._on_tick)
         self.get_logger().info(f"world ready: {n_envs} environment(s), {self.mode} mode")
 
+    def _publish_frame(self) -> None:
+        """/tf_static: the frame of the pictures at the origin of `map` (RViz's default fixed
+        frame). tf2_msgs is not among the PyPI wheels; without it the bags and the viewer still
+        carry the frame."""
+        static = graph.tf_static_publisher(self)
+        if static is None:
+            self.get_logger().info("tf2_msgs is not installed: no /tf_static (bags and the "
+                                   "viewer carry the frame themselves)")
+            return
+        self.pub_static = static
+        static.publish(display.tf_static(self.frame_id, self.get_clock().now().nanoseconds))
+
     # -- trials -----------------------------------------------------------------------------
     def _start(self, setup: TrialSetup, cycles: int) -> None:
         if len(setup) != self.world.n_envs:
             self.world = World(len(setup), self.model)
         self.world.reset(setup)
+        self._last_display = -math.inf        # every trial's first picture is its cycle 0
         self.trial += 1
         self.limit = cycles
         self.started = True
@@ -203,51 +218,13 @@ class WorldNode(Node):
             self._publish_display(obs)
 
     def _publish_display(self, obs: Observation) -> None:
-        i = min(max(self.display_env, 0), self.world.n_envs - 1)
-        w, m = self.world, self.model
-        stamp = self.get_clock().now().to_msg()
-        joints = JointState()
-        joints.header.stamp = stamp
-        joints.header.frame_id = self.frame_id
-        joints.name = ["body", "shoulder", "elbow"]
-        joints.position = [math.radians(w.body[i]), math.radians(w.shoulder[i]),
-                           math.radians(w.elbow[i])]
-        self.pub_joints.publish(joints)
-
-        points = w.arm_points()[i]
-        body = math.radians(w.body[i])
-        half = math.radians(m.field_of_view_deg / 2)
-        reach = m.visual_range
-        eye_field = [(0.0, 0.0), (reach * math.cos(body - half), reach * math.sin(body - half)),
-                     (0.0, 0.0), (reach * math.cos(body + half), reach * math.sin(body + half))]
-        touching = bool(obs.touch[i] > 0.5)
-        markers = MarkerArray()
-        markers.markers = [
-            self._marker(0, "arm", Marker.LINE_STRIP, points[:3], (0.9, 0.8, 0.6), 1.5, stamp),
-            self._marker(1, "hand", Marker.LINE_STRIP, points[2:],
-                         (0.1, 0.9, 0.1) if touching else (0.9, 0.3, 0.2), 2.0, stamp),
-            self._marker(2, "eye_field", Marker.LINE_LIST, eye_field,
-                         (0.3, 0.6, 1.0) if obs.fixated[i] else (0.5, 0.5, 0.5), 0.4, stamp),
-            self._marker(3, "object", Marker.CYLINDER, [w.object_xy[i]], (1.0, 0.8, 0.0),
-                         2 * m.object_radius, stamp),
-        ]
-        self.pub_markers.publish(markers)
-
-    def _marker(self, ident, ns, kind, xy, rgb, size, stamp) -> Marker:
-        marker = Marker()
-        marker.header.frame_id = self.frame_id
-        marker.header.stamp = stamp
-        marker.ns, marker.id, marker.type, marker.action = ns, ident, kind, Marker.ADD
-        marker.pose.orientation.w = 1.0
-        marker.color.r, marker.color.g, marker.color.b, marker.color.a = (*rgb, 1.0)
-        if kind == Marker.CYLINDER:
-            marker.pose.position.x, marker.pose.position.y = float(xy[0][0]), float(xy[0][1])
-            marker.scale.x = marker.scale.y = float(size)
-            marker.scale.z = 1.0
-        else:
-            marker.scale.x = float(size)
-            marker.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in xy]
-        return marker
+        """The display environment's picture (recording/display.py), published as bytes."""
+        i = min(self.display_env, self.world.n_envs - 1)
+        pictures = display.picture(self.world, i, bool(obs.touch[i] > 0.5),
+                                   bool(obs.fixated[i]), self.frame_id,
+                                   self.get_clock().now().nanoseconds)
+        self.pub_joints.publish(pictures["joint_states"])
+        self.pub_markers.publish(pictures["markers"])
 
 
 def main(args: list[str] | None = None) -> int:

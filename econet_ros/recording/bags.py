@@ -12,6 +12,7 @@ part):
     muscle_command  econet_msgs/msg/MuscleCommand    one per cycle 0..N-1
     joint_states    sensor_msgs/msg/JointState       display environment only, throttled
     markers         visualization_msgs/msg/MarkerArray  the same
+    /tf_static      tf2_msgs/msg/TFMessage           once: the pictures' frame under `map`
 
 plus ``custom_data`` in metadata.yaml (``econet.*`` keys: who recorded what, and e.g. the
 fitness the supervisor scored). Everything the measures, the replay and the pictures need comes
@@ -24,6 +25,7 @@ without the interface package (``ros2 bag play`` needs econet_msgs installed).
 from __future__ import annotations
 
 import struct
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,41 +33,14 @@ import numpy as np
 
 from ..config import ModelConfig, model_from_json
 from ..errors import BagError, ConfigError
-from ..topics import (COMMAND, DISPLAY, LOCKSTEP, QOS_KINDS, RECORDED, TOPICS, Qos,
-                      command_fields, sensor_fields, trial_start_fields)
+from ..topics import (COMMAND, DISPLAY, FRAME, LOCKSTEP, QOS_KINDS, RECORDED, TF_STATIC, TOPICS,
+                      Qos, command_fields, sensor_fields, trial_start_fields)
 from ..trials import TrialMeasures
 from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World
+from . import display
+from .messages import typestore
 
-ECONET_TYPES = ("TrialStart", "Retina", "Proprioception", "Touch", "MuscleCommand")
 BAG_VERSION = 9    # Jazzy/Kilted metadata.yaml (Humble cannot open it; see docs)
-
-
-def msg_dir() -> Path:
-    """The folder holding econet_msgs' .msg definitions (source tree, else the install)."""
-    here = Path(__file__).resolve().parents[2] / "econet_msgs" / "msg"
-    if here.is_dir():
-        return here
-    from ament_index_python.packages import get_package_share_directory   # installed layout
-    return Path(get_package_share_directory("econet_msgs")) / "msg"
-
-
-_TYPESTORE = None
-
-
-def typestore():
-    """A rosbags typestore with ROS 2 Kilted's standard types and econet_msgs registered."""
-    global _TYPESTORE
-    if _TYPESTORE is None:
-        from rosbags.typesys import Stores, get_types_from_msg, get_typestore
-
-        store = get_typestore(Stores.ROS2_KILTED)
-        types = {}
-        for name in ECONET_TYPES:
-            text = (msg_dir() / f"{name}.msg").read_text(encoding="utf-8")
-            types.update(get_types_from_msg(text, f"econet_msgs/msg/{name}"))
-        store.register(types)
-        _TYPESTORE = store
-    return _TYPESTORE
 
 
 def header(data) -> tuple[int, int]:
@@ -151,36 +126,51 @@ class BagWriter:
 
 
 def _offered_for(topic: str) -> list:
-    known = TOPICS.get(_short(topic))
+    known = TF_STATIC if topic == TF_STATIC.name else TOPICS.get(_short(topic))
     return [offered_qos(QOS_KINDS[known.qos])] if known else []
 
 
 class TrialBagWriter:
-    """Writes trials run in process (no ROS) as the graph would publish them."""
+    """Writes trials run in process (no ROS) as the graph would publish them, stamped with the
+    wall clock as they are computed; with ``world`` given to ``sensors``, also the picture of
+    environment 0 every cycle (and the /tf_static of its frame), as the world node shows it."""
 
     def __init__(self, path: Path, custom: dict[str, str] | None = None, prefix: str = "/"):
         self.prefix = prefix
-        self.bag = BagWriter(path, {prefix + name: TOPICS[name].type for name in RECORDED
-                                    if name not in DISPLAY}, custom)
+        self.bag = BagWriter(path, {TF_STATIC.name: TF_STATIC.type,
+                                    **{prefix + name: TOPICS[name].type for name in RECORDED}},
+                             custom)
         self.store = typestore()
         self.trial = 0
-        self.t_ns = 1_000_000_000
+        self.t_ns = 0
+
+    def _stamp(self) -> int:
+        """Now, in ns, and later than every message before (the wall clock may repeat)."""
+        self.t_ns = max(time.time_ns(), self.t_ns + 1)
+        return self.t_ns
 
     def _put(self, topic: str, fields: dict) -> None:
         msgtype = TOPICS[topic].type
         msg = self.store.types[msgtype](**fields)
-        self.bag.write(self.prefix + topic, self.t_ns, self.store.serialize_cdr(msg, msgtype))
-        self.t_ns += 1000
+        self.bag.write(self.prefix + topic, self._stamp(),
+                       self.store.serialize_cdr(msg, msgtype))
 
     def start(self, setup: TrialSetup, model: ModelConfig, cycles: int) -> int:
+        if not self.trial:
+            self.bag.write(TF_STATIC.name, self._stamp(), display.tf_static(FRAME, self.t_ns))
         self.trial += 1
         self._put("trial_start", trial_start_fields(self.trial, cycles, True, setup, model))
         return self.trial
 
-    def sensors(self, obs, cycles: int) -> None:
+    def sensors(self, obs, cycles: int, world: World | None = None) -> None:
         final = bool(cycles and obs.cycle >= cycles)
         for topic, fields in sensor_fields(obs, self.trial, final).items():
             self._put(topic, fields)
+        if world is not None:
+            pictures = display.picture(world, 0, bool(obs.touch[0] > 0.5),
+                                       bool(obs.fixated[0]), FRAME, self._stamp())
+            for topic in DISPLAY:
+                self.bag.write(self.prefix + topic, self._stamp(), pictures[topic])
 
     def command(self, cycle: int, motor: np.ndarray) -> None:
         self._put(COMMAND, command_fields(self.trial, cycle, motor))
@@ -196,13 +186,13 @@ def record_trials(path: Path, world: World, controller, setup: TrialSetup, cycle
     try:
         obs = world.reset(setup)
         writer.start(setup, world.model, cycles)
-        writer.sensors(obs, cycles)
+        writer.sensors(obs, cycles, world)
         contact = np.zeros((cycles, world.n_envs), dtype=bool)
         for t in range(cycles):
             motor = np.asarray(controller.act(obs), dtype=np.float64)
             writer.command(t, motor)
             obs = world.step(motor)
-            writer.sensors(obs, cycles)
+            writer.sensors(obs, cycles, world)
             contact[t] = obs.touch > 0.5
     finally:
         writer.close()
