@@ -11,7 +11,7 @@ import pytest
 
 from graph_helpers import REPO, ros_session, spin_until
 
-NODES = ("world", "controller", "supervisor", "recorder")
+NODES = ("world", "controller", "supervisor", "recorder", "viewer")
 
 
 def run_node(node: str, *params: str, extra=()):
@@ -38,8 +38,10 @@ def test_help_lists_parameters_and_starts_nothing(node, tmp_path):
             in proc.stdout
 
 
-def test_help_through_scripts_node():
-    proc = subprocess.run([str(REPO / "scripts" / "node"), "recorder", "--help"], cwd=REPO,
+@pytest.mark.parametrize("command", [["scripts/node", "recorder"],
+                                     ["install/econet_ros/lib/econet_ros/recorder_node"]])
+def test_help_through_scripts_node_and_the_installed_executable(command):
+    proc = subprocess.run([str(REPO / command[0]), *command[1:], "--help"], cwd=REPO,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert "topics (string, default 'trial_start,retina," in proc.stdout
