@@ -38,7 +38,7 @@ def picture(world, env: int, touching: bool, fixated: bool, frame_id: str,
     angles = [math.radians(float(a[env])) for a in (world.body, world.shoulder, world.elbow)]
     joints = message("sensor_msgs/msg/JointState", header=header, name=list(JOINTS),
                      position=np.array(angles))
-    points = world.arm_points()[env]
+    points = world.arm_points(slice(env, env + 1))[0]
     body, half, reach = angles[0], math.radians(model.field_of_view_deg / 2), model.visual_range
     eye_field = [(0.0, 0.0), (reach * math.cos(body - half), reach * math.sin(body - half)),
                  (0.0, 0.0), (reach * math.cos(body + half), reach * math.sin(body + half))]

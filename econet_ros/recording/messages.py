@@ -44,13 +44,20 @@ _NUMBERS = {"bool": np.bool_, "byte": np.uint8, "char": np.uint8, "int8": np.int
             "float64": np.float64}
 
 
+_DEFAULTS: dict[str, tuple[type, dict]] = {}     # type -> (class, default field values)
+
+
 def message(typename: str, **fields):
     """A rosbags message of `typename` with every field not given at its default (zero, empty),
-    as a ROS message constructor would make it."""
-    store = typestore()
-    values = {name: fields[name] if name in fields else _default(node)
-              for name, node in store.fielddefs[typename][1]}
-    return store.types[typename](**values)
+    as a ROS message constructor would make it. The default values are made once per type and
+    shared (a picture is built many times a second): treat messages as read-only."""
+    known = _DEFAULTS.get(typename)
+    if known is None:
+        store = typestore()
+        known = _DEFAULTS[typename] = (store.types[typename], {
+            name: _default(node) for name, node in store.fielddefs[typename][1]})
+    cls, defaults = known
+    return cls(**{**defaults, **fields})
 
 
 def _default(node):
