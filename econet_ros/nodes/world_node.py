@@ -162,8 +162,10 @@ class WorldNode(Node):
             return
         if self.mode == "free":
             motor = self._motor(msg)
-            if motor is not None:
+            if motor is not None and np.all(np.isfinite(motor)):
                 self.latest = motor
+            elif motor is not None:
+                self._not_finite()
             return
         where = f"trial {msg['trial']} cycle {msg['cycle']}"
         if not self.started:
@@ -179,21 +181,26 @@ class WorldNode(Node):
                                       "(reset_trials starts the next)")
             return
         motor = self._motor(msg)
-        if motor is not None:
-            self._publish(self.world.step(motor))
+        if motor is None:
+            return
+        try:
+            obs = self.world.step(motor)        # its kernel checks that every value is finite
+        except ValueError:
+            self._not_finite()
+            return
+        self._publish(obs)
+
+    def _not_finite(self) -> None:
+        self.get_logger().error("rejected muscle command: it contains NaN or infinite values")
 
     def _motor(self, msg: dict, n_envs: int | None = None) -> np.ndarray | None:
-        """The command's (n, 5) outputs, or None (logged) if they are unusable."""
+        """The command's (n, 5) outputs, or None (logged) if their number is wrong."""
         n = self.world.n_envs if n_envs is None else n_envs
         motor = msg["activation"]
         if msg["n_envs"] != n or len(motor) != n * N_MOTOR:
             self.get_logger().error(
                 f"rejected muscle command: {len(motor)} values for n_envs={msg['n_envs']}, the "
                 f"world has {n} environment(s) x {N_MOTOR} muscles = {n * N_MOTOR} values")
-            return None
-        if not np.all(np.isfinite(motor)):
-            self.get_logger().error("rejected muscle command: it contains NaN or infinite "
-                                    "values")
             return None
         return motor.reshape(n, N_MOTOR)
 

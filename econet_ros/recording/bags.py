@@ -38,7 +38,7 @@ from ..topics import (COMMAND, DISPLAY, FRAME, LOCKSTEP, QOS_KINDS, RECORDED, TF
 from ..trials import TrialMeasures
 from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World
 from . import display
-from .messages import typestore
+from .messages import message, serialize, typestore
 
 BAG_VERSION = 9    # Jazzy/Kilted metadata.yaml (Humble cannot open it; see docs)
 
@@ -140,7 +140,6 @@ class TrialBagWriter:
         self.bag = BagWriter(path, {TF_STATIC.name: TF_STATIC.type,
                                     **{prefix + name: TOPICS[name].type for name in RECORDED}},
                              custom)
-        self.store = typestore()
         self.trial = 0
         self.t_ns = 0
 
@@ -151,9 +150,8 @@ class TrialBagWriter:
 
     def _put(self, topic: str, fields: dict) -> None:
         msgtype = TOPICS[topic].type
-        msg = self.store.types[msgtype](**fields)
         self.bag.write(self.prefix + topic, self._stamp(),
-                       self.store.serialize_cdr(msg, msgtype))
+                       serialize(message(msgtype, **fields), msgtype))
 
     def start(self, setup: TrialSetup, model: ModelConfig, cycles: int) -> int:
         if not self.trial:
