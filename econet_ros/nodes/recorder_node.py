@@ -5,9 +5,9 @@ available from PyPI; on a ROS 2 machine ``ros2 bag record`` of the same topics w
 Subscribes  trial_start, retina, proprioception, touch, muscle_command, joint_states, markers
             (or the `topics` parameter's subset), raw: messages are stored as they arrive
 
-It says "recording" only once every recorded topic has a matched publisher (before that,
-"waiting for publishers of ..."), so that what is started after that line is in the bag from
-its first message. Ctrl-C or SIGTERM closes the bag, which then opens and holds everything
+It says "recording" only once every recorded topic has a matched publisher and those have had
+half a second to match it back (before that, "waiting for publishers of ..."), so that what is
+started after that line is in the bag from its first message. Ctrl-C or SIGTERM closes the bag, which then opens and holds everything
 recorded before; a recorder killed outright (SIGKILL, power loss) leaves a bag without
 metadata.yaml that loses at most the last second: ``econet bag repair BAG`` recovers it.
 """
@@ -23,6 +23,11 @@ from rclpy.node import Node
 from ..errors import BagError, ConfigError
 from .runner import Param, declare_parameters, run_node, stop_requested
 from .topic_recorder import ALL_TOPICS, TopicRecorder
+
+# A subscription sees its publishers before they see it (each side learns of the other on its
+# own; here up to a tenth of a second under load), and a publisher sends only to readers it has
+# seen: "recording" waits this long after the subscriptions matched.
+MATCH_SETTLE_SEC = 0.5
 
 PARAMETERS = (
     Param("out", "", "bag folder to create (must not exist); empty = "
@@ -51,14 +56,21 @@ class RecorderNode(Node):
         self.names = names
         self.get_logger().info(f"bag {self.out} open; waiting for publishers of "
                                f"{', '.join(self.recorder.unmatched())}")
+        self.matched_at: float | None = None
         self.waiting = self.create_timer(0.05, self._check_matched)
 
     def _check_matched(self) -> None:
-        """Say "recording" once every recorded topic has a matched publisher."""
+        """Say "recording" once every recorded topic has a matched publisher, and the
+        publishers have had MATCH_SETTLE_SEC to match this node's subscriptions in turn."""
         if self.recorder.unmatched():
+            self.matched_at = None
             return
-        self.waiting.cancel()
-        self.get_logger().info(f"recording {', '.join(self.names)} to {self.out}")
+        now = time.monotonic()
+        if self.matched_at is None:
+            self.matched_at = now
+        if now - self.matched_at >= MATCH_SETTLE_SEC:
+            self.waiting.cancel()
+            self.get_logger().info(f"recording {', '.join(self.names)} to {self.out}")
 
 
 def _body(node: RecorderNode, executor) -> int:

@@ -98,7 +98,7 @@ def declare_parameters(node: Node, table: tuple[Param, ...]) -> dict[str, Any]:
             else param.default
         node.declare_parameter(param.name, value, descriptor(param), ignore_override=True)
         values[param.name] = value
-    unknown = sorted(set(given) - set(node._parameters))
+    unknown = sorted(name for name in given if not node.has_parameter(name))
     if unknown:
         raise ConfigError(f"unknown parameter(s) {', '.join(unknown)} (see --help)")
     return values
