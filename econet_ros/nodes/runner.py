@@ -184,7 +184,10 @@ def run_node(prog: str, make: Callable[[], Node], args: list[str] | None = None,
     args = sys.argv if args is None else args
     ours = args[:args.index("--ros-args")] if "--ros-args" in args else args
     if "--help" in ours or "-h" in ours:
-        print(usage(prog, doc, parameters))
+        try:
+            print(usage(prog, doc, parameters), flush=True)
+        except BrokenPipeError:                 # `--help | head`: the reader had enough
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     _catch_signals()
     try:
