@@ -68,8 +68,9 @@ def recover(mcap: Path) -> Recovered:
     schemas: dict[int, str] = {}
     found = Recovered({}, [], 0, 0)
     for opcode, content in _records(data, len(MAGIC)):
-        if opcode is None:
-            found.lost_bytes = len(data) - content
+        if opcode is None:                     # a whole file ends in the magic again
+            tail = bytes(data[content:])
+            found.lost_bytes = 0 if tail == MAGIC else len(tail)
         elif opcode == CHUNK:
             found.chunks += 1
             _read_chunk(content, schemas, found)
