@@ -70,6 +70,8 @@ class WorldNode(Node):
         World(1, self.model).step(self._motor(codec.decode(graph.encode_command(
             0, 0, NEUTRAL[None, :])), n_envs=1))
         self.world = World(n_envs, self.model)
+        # and load the picture's message types (a fifth of a second), not in the first cycle
+        display.picture(self.world, 0, False, False, self.frame_id, 0)
         self.trial = 0
         self.limit = 0          # trial length; 0 = unlimited
         self.started = False    # lockstep: no trial until the first reset
