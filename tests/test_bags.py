@@ -320,3 +320,24 @@ def test_evaluate_record_carries_pictures_frame_and_real_time(tmp_path):
     paths = [p["value"].split(".")[0] for p in layout["configById"]["Plot!joints"]["paths"]]
     assert set(paths) | {layout["configById"]["RawMessages!touch"]["topicPath"]} <= \
         set(by_topic)
+
+
+def test_repair_recovers_complete_chunks_and_refuses_an_empty_file(tmp_path, capsys):
+    """A bag cut off after its last complete chunk and without metadata.yaml (what a kill
+    leaves) is repaired into a bag with the same trial; an empty .mcap is one line."""
+    whole = recorded_in_process(tmp_path / "whole")
+    data = (whole / "whole.mcap").read_bytes()
+    cut = tmp_path / "cut"
+    cut.mkdir()
+    (cut / "cut.mcap").write_bytes(data[:len(data) - 200])     # footer and summary gone
+    assert main(["bag", "repair", str(cut / "cut.mcap"), "--out", str(tmp_path / "fixed")]) == 0
+    assert "repaired:" in capsys.readouterr().out
+    (want,), (got,) = bags.read_bag(whole).trials, bags.read_bag(tmp_path / "fixed").trials
+    assert got.complete and np.array_equal(got.touch, want.touch)
+    assert np.array_equal(got.motor, want.motor)
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "empty.mcap").write_bytes(b"")
+    assert main(["bag", "repair", str(empty)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "nothing to recover" in err
