@@ -163,7 +163,7 @@ class ControllerNode(Node):
                 f"{len(parts['touch']['contact'])} touch values)", throttle_duration_sec=5.0)
             return
         motor = self.controller.act(obs)
-        self.pub.publish(graph.encode_command(retina["trial"], retina["cycle"], motor))
+        graph.send(self, self.pub, graph.encode_command(retina["trial"], retina["cycle"], motor))
 
 
 def main(args: list[str] | None = None) -> int:

@@ -7,6 +7,7 @@ import array
 import importlib
 
 import numpy as np
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
@@ -53,6 +54,20 @@ def publisher(node: Node, topic: str):
 
 def subscription(node: Node, topic: str, callback, raw: bool = False):
     return node.create_subscription(message_class(topic), topic, callback, qos(topic), raw=raw)
+
+
+def send(node: Node, publisher, data) -> bool:
+    """Publish; False, with a throttled log line, if the middleware refuses. A reliable,
+    keep-all publisher refuses when a reader that stopped taking messages (a node shutting
+    down, or stalled) has filled its history for longer than it may block: a node then loses
+    that message instead of crashing."""
+    try:
+        publisher.publish(data)
+        return True
+    except _rclpy.RCLError as error:
+        node.get_logger().error(f"could not publish on {publisher.topic_name}: "
+                                f"{str(error).splitlines()[0]}", throttle_duration_sec=5.0)
+        return False
 
 
 def tf_static_publisher(node: Node):
@@ -117,5 +132,5 @@ def typed(fields: dict) -> dict:
 
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
-           "service_class", "publisher", "subscription", "tf_static_publisher", "decode",
+           "service_class", "publisher", "subscription", "send", "tf_static_publisher", "decode",
            "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]

@@ -7,9 +7,10 @@ Subscribes  trial_start, retina, proprioception, touch, muscle_command, joint_st
 
 It says "recording" only once every recorded topic has a matched publisher and those have had
 half a second to match it back (before that, "waiting for publishers of ..."), so that what is
-started after that line is in the bag from its first message. Ctrl-C or SIGTERM closes the bag, which then opens and holds everything
-recorded before; a recorder killed outright (SIGKILL, power loss) leaves a bag without
-metadata.yaml that loses at most the last second: ``econet bag repair BAG`` recovers it.
+started after that line is in the bag from its first message. Ctrl-C or SIGTERM closes the
+bag, which then opens and holds everything recorded before; a recorder killed outright
+(SIGKILL, power loss) leaves a bag without metadata.yaml that loses at most the last second:
+``econet bag repair BAG`` recovers it.
 """
 from __future__ import annotations
 

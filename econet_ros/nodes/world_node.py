@@ -220,7 +220,7 @@ class WorldNode(Node):
         """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
         final = bool(self.limit and obs.cycle >= self.limit)
         for part, data in graph.encode_sensors(obs, self.trial, final).items():
-            self.sensor_pubs[part].publish(data)
+            graph.send(self, self.sensor_pubs[part], data)
         now = time.monotonic()
         if now - self._last_display >= self.display_period or final:
             self._last_display = now
@@ -232,8 +232,8 @@ class WorldNode(Node):
         pictures = display.picture(self.world, i, bool(obs.touch[i] > 0.5),
                                    bool(obs.fixated[i]), self.frame_id,
                                    self.get_clock().now().nanoseconds)
-        self.pub_joints.publish(pictures["joint_states"])
-        self.pub_markers.publish(pictures["markers"])
+        graph.send(self, self.pub_joints, pictures["joint_states"])
+        graph.send(self, self.pub_markers, pictures["markers"])
 
 
 def main(args: list[str] | None = None) -> int:
