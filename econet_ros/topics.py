@@ -31,10 +31,21 @@ class Qos(NamedTuple):
     durability: str    # volatile | transient_local
 
 
+# Messages a lockstep writer keeps for readers that have not acknowledged them yet. The world
+# and controller have one message per topic in flight (each waits for the other's answer); the
+# supervisor and recorders read as the messages come, and a hundred cycles cover a reader that
+# falls behind for a moment. A reader that stops for longer loses the oldest messages.
+LOCKSTEP_DEPTH = 100
+
 QOS_KINDS = {
-    # Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher
-    # keeps each message until every reader (controller, supervisor, a recorder) has it.
-    "lockstep": Qos("keep_all", 0, "reliable", "volatile"),
+    # Lockstep topics, as the writers offer them: reliable with a bounded history, so that a
+    # reader that stops acknowledging (a paused monitor, a killed node still listed until its
+    # DDS lease runs out) can neither block nor crash the writer. (Keep-all made the writer
+    # wait for such a reader and, once 5,000 messages were held for it, fail to publish.)
+    "lockstep": Qos("keep_last", LOCKSTEP_DEPTH, "reliable", "volatile"),
+    # How the graph's own nodes read lockstep topics: everything received is kept until taken,
+    # so that a reader that is busy for a moment loses nothing the writer delivered.
+    "lockstep_reader": Qos("keep_all", 0, "reliable", "volatile"),
     # Trial starts: a recorder that joins mid-trial still learns how the current trial started;
     # the depth covers resets in quick succession, so that none is replaced before a recorder
     # has it (recorders keep only the starts of trials they hear).
@@ -45,7 +56,12 @@ QOS_KINDS = {
     "progress": Qos("keep_last", 10, "reliable", "transient_local"),
     # Static transforms, as tf2's static broadcaster offers them.
     "static": Qos("keep_last", 1, "reliable", "transient_local"),
+    # Service requests and replies (both ends): ROS' default keeps 10, so a burst of calls lost
+    # most of them (300 concurrent calls got 17 replies); this many wait their turn instead.
+    "service": Qos("keep_last", 1000, "reliable", "volatile"),
 }
+# The kind a topic's own graph nodes subscribe with, where it differs from what is offered.
+READER_KINDS = {"lockstep": "lockstep_reader"}
 
 
 # In the order a bag adds its connections.

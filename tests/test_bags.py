@@ -127,7 +127,7 @@ def test_interrupted_recording_is_still_a_readable_bag(ros, tmp_path):
     bag = bags.read_bag(path)
     (trial,) = bag.trials
     assert not trial.complete and trial.cycles == 100000
-    # everything before the signal: the lockstep topics are keep-all, so a live recorder misses
+    # everything before the signal: a live recorder takes every message as it comes and misses
     # nothing; only the cycles after the signal are absent (no gaps before them)
     assert bag.count("touch") >= 100 and bag.count("muscle_command") >= 100
     assert not trial.have_sensors[trial.heard_cycles + 1:].any()

@@ -66,8 +66,7 @@ class ControllerNode(Node):
         for part in SENSORS:
             graph.subscription(self, part, lambda data, part=part: self._on_part(part, data),
                                raw=True)
-        self.create_service(graph.service_class("set_weights"), "set_weights",
-                            self._on_set_weights)
+        graph.service(self, "set_weights", self._on_set_weights)
         self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")

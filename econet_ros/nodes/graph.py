@@ -12,8 +12,8 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import WireError
-from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, SENSORS, SERVICES, TF_STATIC, TOPICS,
-                      command_fields, sensor_fields)
+from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, READER_KINDS, SENSORS, SERVICES, TF_STATIC,
+                      TOPICS, command_fields, sensor_fields)
 from ..world import Observation
 from .wire import Codec
 
@@ -41,7 +41,14 @@ def message_class(topic: str) -> type:
 
 
 def qos(topic: str) -> QoSProfile:
+    """What the topic's writers offer (and what a bag of it records)."""
     return QOS[TOPICS[topic].qos]
+
+
+def reader_qos(topic: str) -> QoSProfile:
+    """How the graph's own nodes subscribe to the topic (lockstep: keep all they received)."""
+    kind = TOPICS[topic].qos
+    return QOS[READER_KINDS.get(kind, kind)]
 
 
 def service_class(service: str) -> type:
@@ -53,14 +60,25 @@ def publisher(node: Node, topic: str):
 
 
 def subscription(node: Node, topic: str, callback, raw: bool = False):
-    return node.create_subscription(message_class(topic), topic, callback, qos(topic), raw=raw)
+    """A subscription with the graph's reader QoS."""
+    return node.create_subscription(message_class(topic), topic, callback, reader_qos(topic),
+                                    raw=raw)
+
+
+def service(node: Node, name: str, callback):
+    """A server of one of the graph's services, with a history deep enough for bursts."""
+    return node.create_service(service_class(name), name, callback, qos_profile=QOS["service"])
+
+
+def client(node: Node, name: str):
+    return node.create_client(service_class(name), name, qos_profile=QOS["service"])
 
 
 def send(node: Node, publisher, data) -> bool:
-    """Publish; False, with a throttled log line, if the middleware refuses. A reliable,
-    keep-all publisher refuses when a reader that stopped taking messages (a node shutting
-    down, or stalled) has filled its history for longer than it may block: a node then loses
-    that message instead of crashing."""
+    """Publish; False, with a throttled log line, if the middleware refuses (it should not:
+    lockstep writers keep a bounded history and never wait for a reader; a publish can still
+    fail, e.g. while the process shuts down). The node loses that message instead of
+    crashing."""
     try:
         publisher.publish(data)
         return True
@@ -132,5 +150,6 @@ def typed(fields: dict) -> dict:
 
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
-           "service_class", "publisher", "subscription", "send", "tf_static_publisher", "decode",
-           "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]
+           "reader_qos", "service_class", "publisher", "subscription", "service", "client",
+           "send", "tf_static_publisher", "decode", "encode_sensors", "encode_command", "f64",
+           "as_f64", "as_u8", "typed"]

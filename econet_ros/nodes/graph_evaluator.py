@@ -44,9 +44,8 @@ class GraphEvaluator:
         self.repeats = 0
         self.recorded_trial = -1
         graph.subscription(node, "touch", self._on_touch, raw=True)
-        self.set_weights = node.create_client(graph.service_class("set_weights"), "set_weights")
-        self.reset_trials = node.create_client(graph.service_class("reset_trials"),
-                                               "reset_trials")
+        self.set_weights = graph.client(node, "set_weights")
+        self.reset_trials = graph.client(node, "reset_trials")
 
     # -- the Evaluator interface ------------------------------------------------------------
     def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:

@@ -9,8 +9,8 @@ Serves      ws://<host>:<port> with one channel per topic (CDR, ros2msg schemas:
             the origin of `map` (recording/display.py), sent again every second so that an app
             that connects later has it too. docs/foxglove-layout.json lays the app out.
 
-Only the display topics are forwarded: the lockstep topics are reliable and keep-all, and a
-viewer that fell behind on them would hold the world up.
+Only the display topics are forwarded: the lockstep topics carry every environment every
+cycle, which a picture does not need.
 """
 from __future__ import annotations
 

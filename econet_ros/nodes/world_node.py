@@ -83,7 +83,7 @@ class WorldNode(Node):
         self.pub_markers = graph.publisher(self, "markers")
         self._publish_frame()
         graph.subscription(self, COMMAND, self._on_command, raw=True)
-        self.create_service(graph.service_class("reset_trials"), "reset_trials", self._on_reset)
+        graph.service(self, "reset_trials", self._on_reset)
 
         if self.mode == "free":
             self._new_free_trial()
