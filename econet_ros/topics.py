@@ -31,6 +31,9 @@ class Qos(NamedTuple):
     durability: str    # volatile | transient_local
 
 
+# Environments one batch may hold: 50 x the paper's generation (2000), a 6.4 MB retina message.
+# Nodes refuse larger batches before allocating anything for them.
+MAX_ENVS = 100_000
 # Messages a lockstep writer keeps for readers that have not acknowledged them yet. The world
 # and controller have one message per topic in flight (each waits for the other's answer); the
 # supervisor and recorders read as the messages come, and a hundred cycles cover a reader that
@@ -113,6 +116,30 @@ def observation_from_fields(parts: dict[str, dict]) -> Observation:
                        np.reshape(proprio["stretch"], (n, N_PROPRIO)),
                        np.reshape(touch["contact"], (n,)).astype(np.float64),
                        np.reshape(retina["fixated"], (n,)).astype(bool))
+
+
+def sensor_problem(part: str, fields: dict, n_envs: int, units: int) -> str | None:
+    """Why a decoded sensor message cannot be one cycle of a world of ``n_envs`` environments
+    with ``units`` visual units (None if it can): checked before anything is computed from it,
+    so a malformed message, however self-consistent, is refused instead of reaching a network,
+    and NaN or infinite values are never passed on."""
+    n = fields["n_envs"]
+    if n != n_envs:
+        return (f"{part} for {n} environment(s), but the controller has {n_envs}: call "
+                f"set_weights with n_envs={n}")
+    if part == "retina" and fields["units_per_env"] != units:
+        return f"retina has units_per_env={fields['units_per_env']}, the model has {units}"
+    sizes = {"retina": {"activation": n * units, "fixated": n},
+             "proprioception": {"stretch": n * N_PROPRIO}, "touch": {"contact": n}}[part]
+    for name, size in sizes.items():
+        values = fields[name]
+        if len(values) != size:
+            return f"{part}.{name} has {len(values)} values, expected {size} for n_envs={n}"
+        if values.dtype.kind == "f" and not np.isfinite(values).all():
+            return f"{part}.{name} contains NaN or infinite values"
+        if values.dtype.kind == "u" and size and values.max() > 1:
+            return f"{part}.{name} holds {int(values.max())}, expected 0 or 1"
+    return None
 
 
 def command_fields(trial: int, cycle: int, motor: np.ndarray) -> dict:

@@ -1,11 +1,12 @@
-"""The node graph under bad input and faults (issue 16), each probe once and small: a burst of
-calls and a paused reader of the lockstep topics during a supervisor run. Every process must
-live on without a traceback, and every result folder must equal the undisturbed in-process
-run's, byte for byte.
+"""The node graph under bad input and faults (issue 16), each probe once and small: malformed
+sensor messages and requests, a burst of calls, and a paused reader of the lockstep topics
+during a supervisor run. Every process must live on without a traceback, and every result
+folder must equal the undisturbed in-process run's, byte for byte.
 
 A process killed or paused stays listed until its DDS lease runs out (Fast DDS: 20 s). The
 graph's nodes here announce a 3 s lease (a Fast DDS profile), so that a killed node costs
 seconds; the paused monitor keeps the default, so that the graph goes on sending to it."""
+import array
 import os
 import signal
 
@@ -14,6 +15,7 @@ import pytest
 
 from econet_ros.config import Config
 from econet_ros.runs import run_condition
+from econet_ros.topics import MAX_ENVS
 
 from graph_helpers import call, ros_session, spin_until
 
@@ -110,8 +112,64 @@ def probe(rclpy, executor, namespace):
     return node
 
 
-def test_a_burst_of_calls_gets_every_reply(ros, lease_env):
-    """300 calls at once all get their reply; world and controller serve on."""
+def test_bad_sensor_messages_are_refused_and_the_controller_keeps_serving(ros, lease_env):
+    """Self-consistent but malformed sensor messages, and NaN or infinite values: no command
+    for any, a log line for each kind; the controller answers the next good cycle."""
+    rclpy, executor, procs = ros
+    from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+    from econet_ros.nodes import graph as common
+
+    controller, log = procs.start("controller", "/rbad", "n_envs:=2", env=lease_env)
+    node = probe(rclpy, executor, "/rbad")
+    commands = []
+    node.create_subscription(MuscleCommand, "muscle_command", lambda m: commands.append(m.cycle),
+                             common.LOCKSTEP_QOS)
+    pubs = {name: node.create_publisher(kind, name, common.LOCKSTEP_QOS)
+            for name, kind in (("retina", Retina), ("proprioception", Proprioception),
+                               ("touch", Touch))}
+
+    def send(cycle, n=2, units=8, touch_n=2, retina=0.2, stretch=0.5, contact=0):
+        head = dict(trial=1, cycle=cycle)
+        pubs["touch"].publish(Touch(**head, n_envs=touch_n,
+                                    contact=array.array("B", [contact] * touch_n)))
+        pubs["proprioception"].publish(Proprioception(**head, n_envs=n,
+                                                      stretch=common.f64([stretch] * 4 * n)))
+        pubs["retina"].publish(Retina(**head, n_envs=n, units_per_env=units,
+                                      activation=common.f64([retina] * units * n),
+                                      fixated=array.array("B", [0] * n)))
+
+    # Good cycles until one is answered: both sides have matched then.
+    cycle = 0
+    while not commands:
+        cycle += 1
+        assert cycle < 60, "the controller never answered a good cycle"
+        send(cycle)
+        for _ in range(10):
+            executor.spin_once(timeout_sec=0.05)
+    bad = [dict(units=4), dict(units=0), dict(touch_n=3), dict(touch_n=1),
+           dict(retina=float("nan")), dict(stretch=float("inf")), dict(contact=2)]
+    first_bad = cycle + 1
+    for offset, fields in enumerate(bad):
+        send(first_bad + offset, **fields)
+    last = first_bad + len(bad)
+    send(last)
+    spin_until(executor, lambda: last in commands, what="the command for the last good cycle")
+    assert not set(commands) & set(range(first_bad, last))
+    assert controller.poll() is None
+    text = log.read_text()
+    # one line per kind within 5 s: units_per_env 0 and touch for 1 are the kinds before them
+    for line in ("retina has units_per_env=4, the model has 8",
+                 "touch for 3 environment(s), but the controller has 2",
+                 "retina.activation contains NaN or infinite values",
+                 "proprioception.stretch contains NaN or infinite values",
+                 "touch.contact holds 2, expected 0 or 1"):
+        assert line in text, text
+    assert_no_traceback(log)
+
+
+def test_bad_requests_get_error_replies_and_a_burst_gets_every_reply(ros, lease_env):
+    """Batches beyond any sane size are refused before anything is allocated; 300 calls at
+    once all get their reply; world and controller serve on."""
     rclpy, executor, procs = ros
     from econet_msgs.srv import ResetTrials, SetWeights
     from econet_ros.nodes import graph as common
@@ -120,9 +178,16 @@ def test_a_burst_of_calls_gets_every_reply(ros, lease_env):
         procs, "/rreq", lease_env).values()
     node = probe(rclpy, executor, "/rreq")
     reset, weights = common.client(node, "reset_trials"), common.client(node, "set_weights")
+    for n in (2 ** 32 - 1, 2 ** 31, MAX_ENVS + 1):
+        reply = call(executor, reset, ResetTrials.Request(n_envs=n, cycles=5))
+        assert not reply.success and \
+            f"n_envs is {n}; a world holds at most {MAX_ENVS} environments" in reply.message
+        reply = call(executor, weights, SetWeights.Request(
+            n_envs=n, weights_per_network=160, weights=common.f64(np.zeros((3, 160)))))
+        assert not reply.success and \
+            f"n_envs must be between 1 and {MAX_ENVS}, got {n}" in reply.message
     good = SetWeights.Request(n_envs=N_ENVS, weights_per_network=160,
                               weights=common.f64(np.zeros((SMALL["population"], 160))))
-    assert call(executor, weights, good).success       # both ends matched before the burst
     futures = [weights.call_async(good) for _ in range(300)]
     spin_until(executor, lambda: all(f.done() for f in futures), timeout=120,
                what="300 replies")

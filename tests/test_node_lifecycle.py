@@ -53,7 +53,7 @@ def test_help_through_scripts_node_and_the_installed_executable(command):
     ("world", "display_env:=4", "display_env must be below n_envs (1), got 4"),
     ("world", "mode:=slow", "mode must be one of lockstep, free, got 'slow'"),
     ("world", "rate:=20", "unknown parameter(s) rate (see --help)"),
-    ("controller", "n_envs:=0", "n_envs must be at least 1, got 0"),
+    ("controller", "n_envs:=0", "n_envs must be between 1 and 100000, got 0"),
     ("controller", "max_abs_weight:=true", "max_abs_weight must be a finite number, got True"),
     ("supervisor", "population:=2.5", "population must be a whole number, got 2.5"),
     ("supervisor", "overwrite:=3", "overwrite must be true or false, got 3"),

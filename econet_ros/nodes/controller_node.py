@@ -16,7 +16,7 @@ from rclpy.node import Node
 from ..config import Config
 from ..errors import ConfigError, PluginError
 from ..plugins import resolve
-from ..topics import COMMAND, SENSORS, observation_from_fields
+from ..topics import COMMAND, MAX_ENVS, SENSORS, observation_from_fields, sensor_problem
 from ..world import World
 from . import graph
 from .runner import Param, declare_parameters, default_from, node_config, run_node
@@ -32,7 +32,8 @@ PARAMETERS = (
                                "is empty)"),
     Param("config", "", "JSON config file (as econet --config); its model and network sections "
                         "size the network; empty = defaults"),
-    Param("n_envs", 1, "environments at start-up (set_weights may change it)", low=1),
+    Param("n_envs", 1, "environments at start-up (set_weights may change it)", low=1,
+          high=MAX_ENVS),
     Param("max_abs_weight", Config().evolution.weight_range,
           "set_weights refuses weights beyond +-this value (default: the config's "
           "weight_range)", low=0.0),
@@ -63,6 +64,7 @@ class ControllerNode(Node):
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
 
         self.pub = graph.publisher(self, COMMAND)
+        self.refusals = graph.RateLimitedLog(self)
         for part in SENSORS:
             graph.subscription(self, part, lambda data, part=part: self._on_part(part, data),
                                raw=True)
@@ -76,7 +78,7 @@ class ControllerNode(Node):
         problem = self._check(request)
         if problem:
             response.success, response.message = False, problem
-            self.get_logger().error(f"set_weights refused: {problem}")
+            self.refusals.error(f"set_weights refused: {problem}")
             return response
         n, k = int(request.n_envs), int(request.weights_per_network)
         weights = graph.as_f64(request.weights).reshape(-1, k) if k else None
@@ -102,8 +104,8 @@ class ControllerNode(Node):
         if request.weights_per_network != expected:
             return (f"weights_per_network is {request.weights_per_network}, the "
                     f"{self.network} network has {expected} weights")
-        if request.n_envs < 1:
-            return "n_envs must be at least 1"
+        if not 1 <= request.n_envs <= MAX_ENVS:
+            return f"n_envs must be between 1 and {MAX_ENVS}, got {request.n_envs}"
         if expected == 0:       # nothing to load (e.g. the reacher): only the batch size
             return None if not len(request.weights) else \
                 f"the {self.network} controller takes no weights, got {len(request.weights)}"
@@ -122,9 +124,15 @@ class ControllerNode(Node):
     # -- sensors -> command -------------------------------------------------------------------
     def _on_part(self, part: str, data: bytes) -> None:
         """A serialized sensor message (see wire); the command goes out once a cycle's three
-        messages are in."""
+        messages are in. A message that cannot be a cycle of this controller's batch is
+        refused before anything is computed from it."""
         msg = graph.decode(self, part, data)
-        if msg is None:
+        if msg is None or msg["final"]:
+            return                      # a trial's last cycle: the world takes no command
+        problem = sensor_problem(part, msg, self.controller.n_envs,
+                                 self.config.model.visual_units)
+        if problem:
+            self.refusals.error(f"ignored trial {msg['trial']} cycle {msg['cycle']}: {problem}")
             return
         key = (msg["trial"], msg["cycle"])
         parts = self.pending.get(key)
@@ -143,25 +151,7 @@ class ControllerNode(Node):
 
     def _act(self, parts: dict) -> None:
         retina = parts["retina"]
-        if retina["final"]:
-            return                      # the trial is over: the world takes no command
-        n = retina["n_envs"]
-        if n != self.controller.n_envs:
-            self.get_logger().warning(
-                f"sensors for {n} environment(s), but the controller has "
-                f"{self.controller.n_envs}: call set_weights with n_envs={n}",
-                throttle_duration_sec=5.0)
-            return
-        try:
-            obs = observation_from_fields(parts)
-        except ValueError:
-            self.get_logger().error(
-                f"ignored trial {retina['trial']} cycle {retina['cycle']}: sensor arrays do not "
-                f"match n_envs={n} ({len(retina['activation'])} retina, "
-                f"{len(parts['proprioception']['stretch'])} proprioception, "
-                f"{len(parts['touch']['contact'])} touch values)", throttle_duration_sec=5.0)
-            return
-        motor = self.controller.act(obs)
+        motor = self.controller.act(observation_from_fields(parts))
         graph.send(self, self.pub, graph.encode_command(retina["trial"], retina["cycle"], motor))
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import array
 import importlib
+import re
+import time
 
 import numpy as np
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
@@ -88,6 +90,31 @@ def send(node: Node, publisher, data) -> bool:
         return False
 
 
+class RateLimitedLog:
+    """Error lines of one node, at most one of a kind every ``period`` seconds (the kind: the
+    line with its numbers left out, unless given): a flood of bad messages cannot flood the
+    log, and each kind of fault is still said."""
+
+    def __init__(self, node: Node, period: float = 5.0):
+        self.node, self.period = node, period
+        self.said: dict[str, float] = {}
+        self.suppressed: dict[str, int] = {}
+
+    def error(self, text: str, kind: str | None = None) -> None:
+        kind = kind or _NUMBERS.sub("#", text)
+        now = time.monotonic()
+        if now - self.said.get(kind, -self.period) < self.period:
+            self.suppressed[kind] = self.suppressed.get(kind, 0) + 1
+            return
+        more = self.suppressed.pop(kind, 0)
+        self.said[kind] = now
+        self.node.get_logger().error(text + (f" ({more} more like it since the last such line)"
+                                             if more else ""))
+
+
+_NUMBERS = re.compile(r"\d+")
+
+
 def tf_static_publisher(node: Node):
     """A publisher of /tf_static, or None where tf2_msgs is not installed (it is not among the
     ROS 2 wheels on PyPI; every ROS 2 installation has it)."""
@@ -151,5 +178,5 @@ def typed(fields: dict) -> dict:
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
            "reader_qos", "service_class", "publisher", "subscription", "service", "client",
-           "send", "tf_static_publisher", "decode", "encode_sensors", "encode_command", "f64",
-           "as_f64", "as_u8", "typed"]
+           "send", "RateLimitedLog", "tf_static_publisher", "decode", "encode_sensors",
+           "encode_command", "f64", "as_f64", "as_u8", "typed"]

@@ -23,7 +23,7 @@ from econet_msgs.msg import TrialStart
 
 from ..errors import ConfigError, SetupError
 from ..recording import display
-from ..topics import COMMAND, FRAME, SENSORS, trial_start_fields
+from ..topics import COMMAND, FRAME, MAX_ENVS, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
 from . import graph
 from .runner import Param, declare_parameters, node_config, run_node
@@ -32,7 +32,8 @@ MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
 
 PARAMETERS = (
-    Param("n_envs", 1, "environments at start-up (a reset may change it)", low=1),
+    Param("n_envs", 1, "environments at start-up (a reset may change it)", low=1,
+          high=MAX_ENVS),
     Param("config", "", "JSON config file (as econet --config); only its model section is "
                         "used; empty = the paper's defaults"),
     Param("mode", "lockstep", "lockstep: advance one cycle per matching muscle command; free: "
@@ -55,6 +56,7 @@ class WorldNode(Node):
     def __init__(self):
         super().__init__("world")
         v = declare_parameters(self, PARAMETERS)
+        self.refusals = graph.RateLimitedLog(self)
         n_envs, rate, display_rate = v["n_envs"], v["rate_hz"], v["display_rate_hz"]
         self.mode, self.free_cycles, self.seed = v["mode"], v["trial_cycles"], v["seed"]
         self.display_env, self.frame_id = v["display_env"], v["frame_id"]
@@ -125,7 +127,7 @@ class WorldNode(Node):
         except SetupError as error:
             response.success = False
             response.message = str(error)
-            self.get_logger().error(f"reset refused: {error}")
+            self.refusals.error(f"reset refused: {error}")
         else:
             self._start(setup, int(request.cycles))
             response.success = True
@@ -138,6 +140,8 @@ class WorldNode(Node):
         """The trial starts a request describes (SetupError, one line, if they cannot work):
         each array given in full, or left empty to be drawn from the request's seed."""
         n = int(request.n_envs) or self.world.n_envs
+        if n > MAX_ENVS:
+            raise SetupError(f"n_envs is {n}; a world holds at most {MAX_ENVS} environments")
         drawn = sample_setups(np.random.default_rng(request.seed), n, self.model)
         parts = {}
         for name, width in (("object_xy", 2), ("body_deg", 1), ("shoulder_deg", 1),
@@ -169,18 +173,10 @@ class WorldNode(Node):
             elif motor is not None:
                 self._not_finite()
             return
-        where = f"trial {msg['trial']} cycle {msg['cycle']}"
-        if not self.started:
-            self.get_logger().warning(f"rejected muscle command for {where}: no trial yet "
-                                      "(call reset_trials)")
-            return
-        if msg["trial"] != self.trial or msg["cycle"] != self.world.cycle:
-            self.get_logger().warning(f"rejected muscle command for {where}: the world is at "
-                                      f"trial {self.trial} cycle {self.world.cycle}")
-            return
-        if self.limit and self.world.cycle >= self.limit:
-            self.get_logger().warning(f"rejected muscle command for {where}: the trial is over "
-                                      "(reset_trials starts the next)")
+        late = self._out_of_step(msg)
+        if late:
+            self.refusals.error(f"rejected muscle command for trial {msg['trial']} cycle "
+                                f"{msg['cycle']}: {late}")
             return
         motor = self._motor(msg)
         if motor is None:
@@ -192,17 +188,27 @@ class WorldNode(Node):
             return
         self._publish(obs)
 
+    def _out_of_step(self, msg: dict) -> str | None:
+        """Why a lockstep command is not the one the world waits for (None if it is)."""
+        if not self.started:
+            return "no trial yet (call reset_trials)"
+        if msg["trial"] != self.trial or msg["cycle"] != self.world.cycle:
+            return f"the world is at trial {self.trial} cycle {self.world.cycle}"
+        if self.limit and self.world.cycle >= self.limit:
+            return "the trial is over (reset_trials starts the next)"
+        return None
+
     def _not_finite(self) -> None:
-        self.get_logger().error("rejected muscle command: it contains NaN or infinite values")
+        self.refusals.error("rejected muscle command: it contains NaN or infinite values")
 
     def _motor(self, msg: dict, n_envs: int | None = None) -> np.ndarray | None:
         """The command's (n, 5) outputs, or None (logged) if their number is wrong."""
         n = self.world.n_envs if n_envs is None else n_envs
         motor = msg["activation"]
         if msg["n_envs"] != n or len(motor) != n * N_MOTOR:
-            self.get_logger().error(
-                f"rejected muscle command: {len(motor)} values for n_envs={msg['n_envs']}, the "
-                f"world has {n} environment(s) x {N_MOTOR} muscles = {n * N_MOTOR} values")
+            self.refusals.error(f"rejected muscle command: {len(motor)} values for "
+                                f"n_envs={msg['n_envs']}, the world has {n} environment(s) x "
+                                f"{N_MOTOR} muscles = {n * N_MOTOR} values")
             return None
         return motor.reshape(n, N_MOTOR)
 
