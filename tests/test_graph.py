@@ -301,6 +301,8 @@ def supervisor_params(out, condition="normal", generations=3, **extra):
 
 def test_evolution_through_graph_writes_the_in_process_result_folder(graph, procs, ros,
                                                                         tmp_path):
+    for client in list(graph.clients):      # the earlier tests' service clients: a supervisor
+        graph.destroy_client(client)        # waits while another client of its services is listed
     progress = []
     graph.create_subscription(EvolutionProgress, "progress", progress.append,
                               common.QOS["progress"])

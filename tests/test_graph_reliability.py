@@ -1,7 +1,8 @@
 """The node graph under bad input and faults (issue 16), each probe once and small: malformed
-sensor messages and requests, a burst of calls, and a paused reader of the lockstep topics
-during a supervisor run. Every process must live on without a traceback, and every result
-folder must equal the undisturbed in-process run's, byte for byte.
+sensor messages and requests, a burst of calls, strangers on the graph's topics and services,
+two graphs in one namespace, a paused reader of the lockstep topics and nodes killed and
+restarted during a supervisor run. Every process must live on without a traceback, and every
+result folder must equal the undisturbed in-process run's, byte for byte.
 
 A process killed or paused stays listed until its DDS lease runs out (Fast DDS: 20 s). The
 graph's nodes here announce a 3 s lease (a Fast DDS profile), so that a killed node costs
@@ -83,9 +84,14 @@ def supervisor_params(out, generations):
     return [f"{k}:={v}" for k, v in params.items()]
 
 
-def start_graph(procs, ns, env):
-    """World and controller in ``ns``; {node: (process, log)}."""
-    return {node: procs.start(node, ns, env=env) for node in ("world", "controller")}
+def start_graph(procs, ns, env, out=None, generations=0):
+    """World and controller in ``ns``, and with ``out`` a supervisor evolving into it;
+    {node: (process, log)}."""
+    started = {node: procs.start(node, ns, env=env) for node in ("world", "controller")}
+    if out is not None:
+        started["supervisor"] = procs.start("supervisor", ns,
+                                            *supervisor_params(out, generations), env=env)
+    return started
 
 
 def says(log, text):
@@ -104,6 +110,11 @@ def assert_no_traceback(*logs):
     for log in logs:
         text = log.read_text()
         assert "Traceback" not in text and "could not publish" not in text, text
+
+
+def keep_doing(executor, action, until, what):
+    """Repeat action() between spins until until() holds (fails after a generous timeout)."""
+    spin_until(executor, lambda: action() or until(), timeout=60, what=what)
 
 
 def probe(rclpy, executor, namespace):
@@ -188,6 +199,7 @@ def test_bad_requests_get_error_replies_and_a_burst_gets_every_reply(ros, lease_
             f"n_envs must be between 1 and {MAX_ENVS}, got {n}" in reply.message
     good = SetWeights.Request(n_envs=N_ENVS, weights_per_network=160,
                               weights=common.f64(np.zeros((SMALL["population"], 160))))
+    assert call(executor, weights, good).success       # both ends matched before the burst
     futures = [weights.call_async(good) for _ in range(300)]
     spin_until(executor, lambda: all(f.done() for f in futures), timeout=120,
                what="300 replies")
@@ -195,6 +207,87 @@ def test_bad_requests_get_error_replies_and_a_burst_gets_every_reply(ros, lease_
     assert call(executor, reset, ResetTrials.Request(n_envs=N_ENVS, cycles=5)).success
     assert world.poll() is None and controller.poll() is None
     assert_no_traceback(world_log, controller_log)
+
+
+def test_strangers_stop_the_generation_and_change_nothing(ros, lease_env, tmp_path):
+    """During a supervisor run another node publishes touch (all contact, stamped as the
+    world's cycles), then muscle commands (answering the world's cycles), then swaps the
+    controller's weights. Each time the supervisor stops the generation and says why, the
+    world, controller and supervisor ignore the stranger's messages, and once it is gone the
+    generation is tested again: the results equal the undisturbed run's."""
+    rclpy, executor, procs = ros
+    from econet_msgs.msg import MuscleCommand, Touch
+    from econet_msgs.srv import SetWeights
+    from econet_ros.nodes import graph as common
+
+    ns, out, generations = "/rstr", tmp_path / "graph", 300     # long enough for three visits
+    (_, world_log), (_, controller_log), (sup, log) = start_graph(
+        procs, ns, lease_env, out, generations).values()
+    stranger = rclpy.create_node("stranger", namespace=ns)
+    executor.add_node(stranger)
+    spin_until(executor, says(log, f"generation 2/{generations}"), timeout=120,
+               what="the run to start")
+
+    # The stranger publishes as if it were the world, stamped like the world's last cycle
+    # (all contact), until the supervisor has stopped and the controller has ignored it.
+    heard = [(1, 0)]
+    listen = stranger.create_subscription(Touch, "touch", lambda m: heard.append(
+        (m.trial, m.cycle)), common.LOCKSTEP_QOS)
+    touch = stranger.create_publisher(Touch, "touch", common.LOCKSTEP_QOS)
+    keep_doing(executor, lambda: touch.publish(Touch(
+        trial=heard[-1][0], cycle=heard[-1][1], n_envs=N_ENVS,
+        contact=array.array("B", [1] * N_ENVS))),
+        until=lambda: says(log, "2 publishers of touch (nodes /rstr/stranger, /rstr/world)")()
+        and says(controller_log, "ignored /rstr/touch from /rstr/stranger")(),
+        what="the supervisor to stop and the controller to ignore the stranger's touch")
+    stranger.destroy_publisher(touch)
+
+    # Then as if it were the controller, answering the world's last cycle.
+    commands = stranger.create_publisher(MuscleCommand, "muscle_command", common.LOCKSTEP_QOS)
+    keep_doing(executor, lambda: commands.publish(MuscleCommand(
+        trial=heard[-1][0], cycle=heard[-1][1], n_envs=N_ENVS,
+        activation=common.f64(np.ones(5 * N_ENVS)))),
+        until=lambda: says(log, "2 publishers of muscle_command (nodes /rstr/controller, "
+                                "/rstr/stranger)")()
+        and says(world_log, "ignored /rstr/muscle_command from /rstr/stranger")(),
+        what="the supervisor to stop and the world to ignore the stranger's commands")
+    stranger.destroy_publisher(commands)
+    stranger.destroy_subscription(listen)
+
+    swap = common.client(stranger, "set_weights")
+    reply = call(executor, swap, SetWeights.Request(
+        n_envs=N_ENVS, weights_per_network=160,
+        weights=common.f64(np.full((SMALL["population"], 160), 3.0))))
+    assert reply.success                # the controller cannot tell who calls it
+    spin_until(executor, says(log, "2 clients of set_weights"),
+               what="the supervisor to see the second client")
+    stranger.destroy_client(swap)
+
+    spin_until(executor, lambda: sup.poll() is not None, timeout=120, what="the supervisor")
+    assert sup.returncode == 0, log.read_text()
+    assert "testing the generation again" in log.read_text()
+    assert_same_as_in_process(out, generations, tmp_path)
+    assert_no_traceback(log, world_log, controller_log)
+
+
+def test_two_graphs_in_one_namespace_refuse_loudly(ros, lease_env, tmp_path):
+    """Two whole graphs started in one namespace: neither supervisor tests anything while the
+    other graph is there, and says why; once one graph has gone, the other's run equals the
+    undisturbed one."""
+    rclpy, executor, procs = ros
+    ns, generations = "/rtwin", 3
+    graphs = [start_graph(procs, ns, lease_env, tmp_path / f"graph{k}", generations)
+              for k in (1, 2)]
+    spin_until(executor, lambda: all(says(g["supervisor"][1], "waiting for the graph: 2 "
+                                          "publishers of retina")() for g in graphs),
+               timeout=120, what="both supervisors to refuse")
+    for proc, _ in graphs[1].values():
+        procs.kill(proc)                          # SIGINT: gone from the graph at once
+    sup, log = graphs[0]["supervisor"]
+    spin_until(executor, lambda: sup.poll() is not None, timeout=120, what="the supervisor")
+    assert sup.returncode == 0, log.read_text()
+    assert_same_as_in_process(tmp_path / "graph1", generations, tmp_path)
+    assert_no_traceback(*[log for g in graphs for _, log in g.values()])
 
 
 def test_a_paused_monitor_cannot_hold_up_the_graph(ros, lease_env, monitor_env, tmp_path):
@@ -223,3 +316,33 @@ def test_a_paused_monitor_cannot_hold_up_the_graph(ros, lease_env, monitor_env, 
     assert monitor.poll() is None, monitor_log.read_text()
     assert_same_as_in_process(out, generations, tmp_path)
     assert_no_traceback(log, world_log, controller_log, monitor_log)
+
+
+def test_killed_and_restarted_nodes_change_nothing(ros, lease_env, tmp_path):
+    """During a supervisor run the world is killed (SIGKILL) and restarted at once; later the
+    controller is killed and restarted only after the supervisor noticed. The supervisor tests
+    the interrupted generations again, and the results equal the undisturbed run's."""
+    rclpy, executor, procs = ros
+    ns, out, generations = "/rkill", tmp_path / "graph", 60
+    (world, world_log), (controller, controller_log), (sup, log) = start_graph(
+        procs, ns, lease_env, out, generations).values()
+    logs = [log, world_log, controller_log]
+
+    spin_until(executor, says(log, f"generation 15/{generations}"), timeout=120,
+               what="generation 15")
+    procs.kill(world, signal.SIGKILL)
+    logs.append(procs.start("world", ns, env=lease_env)[1])                # promptly
+
+    spin_until(executor, says(log, f"generation 35/{generations}"), timeout=120,
+               what="generation 35")
+    noticed = log.read_text().count("testing the generation again")
+    procs.kill(controller, signal.SIGKILL)
+    spin_until(executor, lambda: log.read_text().count("testing the generation again")
+               > noticed, what="the supervisor to notice the controller is gone")
+    logs.append(procs.start("controller", ns, env=lease_env)[1])           # late
+
+    spin_until(executor, lambda: sup.poll() is not None, timeout=180, what="the supervisor")
+    assert sup.returncode == 0, log.read_text()
+    assert noticed >= 1             # the world's kill was noticed too
+    assert_same_as_in_process(out, generations, tmp_path)
+    assert_no_traceback(*logs)

@@ -2,7 +2,8 @@
 random movement, the hand-written reacher, or any plug-in by name or module:Class) answering
 each cycle's sensors with muscle commands.
 
-Subscribes  retina, proprioception, touch (econet_msgs)
+Subscribes  retina, proprioception, touch (econet_msgs), each taken only from one publisher: the
+            world it pairs with (graph.Partner)
 Publishes   muscle_command (econet_msgs/MuscleCommand), once per complete non-final cycle
 Serves      set_weights (econet_msgs/SetWeights)
 """
@@ -65,9 +66,10 @@ class ControllerNode(Node):
 
         self.pub = graph.publisher(self, COMMAND)
         self.refusals = graph.RateLimitedLog(self)
+        self.world = {part: graph.Partner(self, part, self.refusals) for part in SENSORS}
         for part in SENSORS:
-            graph.subscription(self, part, lambda data, part=part: self._on_part(part, data),
-                               raw=True)
+            graph.subscription(self, part, lambda data, gid, part=part: self._on_part(
+                part, data, gid), raw=True, with_publisher=True)
         graph.service(self, "set_weights", self._on_set_weights)
         self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
@@ -122,10 +124,12 @@ class ControllerNode(Node):
         return None
 
     # -- sensors -> command -------------------------------------------------------------------
-    def _on_part(self, part: str, data: bytes) -> None:
-        """A serialized sensor message (see wire); the command goes out once a cycle's three
-        messages are in. A message that cannot be a cycle of this controller's batch is
-        refused before anything is computed from it."""
+    def _on_part(self, part: str, data: bytes, publisher: bytes) -> None:
+        """A serialized sensor message (see wire) from the partner world; the command goes out
+        once a cycle's three messages are in. A message that cannot be a cycle of this
+        controller's batch is refused before anything is computed from it."""
+        if not self.world[part].accepts(publisher):
+            return
         msg = graph.decode(self, part, data)
         if msg is None or msg["final"]:
             return                      # a trial's last cycle: the world takes no command

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import array
 import importlib
+import inspect
 import re
 import time
 
@@ -61,10 +62,30 @@ def publisher(node: Node, topic: str):
     return node.create_publisher(message_class(topic), topic, qos(topic))
 
 
-def subscription(node: Node, topic: str, callback, raw: bool = False):
-    """A subscription with the graph's reader QoS."""
+def subscription(node: Node, topic: str, callback, raw: bool = False,
+                 with_publisher: bool = False):
+    """A subscription with the graph's reader QoS; with ``with_publisher`` the callback gets
+    (message, GID of its publisher as 16 bytes), to tell partners from strangers."""
+    if with_publisher:
+        callback = _WithPublisher(callback)
     return node.create_subscription(message_class(topic), topic, callback, reader_qos(topic),
                                     raw=raw)
+
+
+class _WithPublisher:
+    """Calls back with (message, publisher GID). rclpy hands a callback that takes two
+    arguments the message info too, but rclpy 9.1's EventsExecutor passes (message, info) as
+    one tuple instead of two arguments, so this callable declares two and accepts either."""
+
+    __signature__ = inspect.Signature([
+        inspect.Parameter(name, inspect.Parameter.POSITIONAL_ONLY) for name in ("msg", "info")])
+
+    def __init__(self, callback):
+        self.callback = callback
+
+    def __call__(self, *args) -> None:
+        msg, info = args if len(args) == 2 else args[0]
+        self.callback(msg, bytes(info["publisher_gid"]["data"]))
 
 
 def service(node: Node, name: str, callback):
@@ -113,6 +134,57 @@ class RateLimitedLog:
 
 
 _NUMBERS = re.compile(r"\d+")
+
+
+class Partner:
+    """The one publisher of a lockstep topic whose messages a node takes: for the controller
+    and the supervisor the world, for the world the controller.
+
+    The partner is the publisher a message first comes from while no other publisher of the
+    topic is listed, and stays the partner while it is listed (a node that exits is unlisted
+    at once, a killed one when its DDS lease runs out: 20 s by default). A message from any
+    other publisher is refused with a log line, so a second graph on the same ROS domain and
+    namespace, or a stray publisher, cannot change what the node computes; while several are
+    listed and none is the partner, all are refused."""
+
+    def __init__(self, node: Node, topic: str, log: RateLimitedLog):
+        self.node, self.log = node, log
+        self.topic = node.resolve_topic_name(topic)
+        self.gid: bytes | None = None
+
+    def accepts(self, gid: bytes) -> bool:
+        if gid == self.gid:
+            return True
+        listed = {bytes(info.endpoint_gid): info
+                  for info in self.node.get_publishers_info_by_topic(self.topic)}
+        if (self.gid is None or self.gid not in listed) and not listed.keys() - {gid}:
+            if self.gid is not None:
+                self.node.get_logger().info(f"taking {self.topic} from {_who(listed, gid)} "
+                                            "now (the former publisher is gone)")
+            self.gid = gid
+            return True
+        if self.gid in listed:
+            why = f"it takes {self.topic} only from {_who(listed, self.gid)}, its partner"
+        else:
+            why = (f"{len(listed)} publishers are listed and none is known as the partner (a "
+                   "killed node stays listed until its DDS lease runs out)")
+        self.log.error(f"ignored {self.topic} from {_who(listed, gid)}: {why}; another graph "
+                       "on this ROS domain and namespace? (docs/ros-graph.md: running several "
+                       "graphs)", kind=f"stranger {self.topic}")
+        return False
+
+
+def _who(listed: dict, gid: bytes) -> str:
+    info = listed.get(gid)
+    return f"{node_of(info) if info else 'a publisher not listed yet'} (gid {gid.hex()})"
+
+
+def node_of(info) -> str:
+    """The node of an endpoint listed in the graph, by full name (rmw lists an endpoint before
+    it knows its node's name)."""
+    if info.node_name == "_NODE_NAME_UNKNOWN_":
+        return "a node not named yet"
+    return f"{info.node_namespace.rstrip('/')}/{info.node_name}"
 
 
 def tf_static_publisher(node: Node):
@@ -178,5 +250,5 @@ def typed(fields: dict) -> dict:
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
            "reader_qos", "service_class", "publisher", "subscription", "service", "client",
-           "send", "RateLimitedLog", "tf_static_publisher", "decode", "encode_sensors",
-           "encode_command", "f64", "as_f64", "as_u8", "typed"]
+           "send", "RateLimitedLog", "Partner", "node_of", "tf_static_publisher", "decode",
+           "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]

@@ -4,8 +4,11 @@ instead of in process, with exactly the in-process trial starts, weights and noi
 
 Per batch of trials it swaps the controller's weights (set_weights), starts the trials in the
 world (reset_trials), lets world and controller run the cycles in lockstep and scores fitness
-from the touch topic it hears. A batch that cannot finish (a node vanished, nothing moved) is
-run again from its start once the graph is back; batches are deterministic, so nothing changes.
+from the touch topic it hears, from its world only (graph.Partner). A batch that cannot finish
+(a node vanished, nothing moved) is run again from its start once the graph is back; so is a
+batch during which the graph was more than one world, one controller and this supervisor (a
+second publisher of a lockstep topic, a second server or client of a service: a stranger that
+could have changed the results). Batches are deterministic, so nothing changes.
 """
 from __future__ import annotations
 
@@ -20,11 +23,19 @@ from ..config import Config
 from ..errors import GraphError
 from ..evolution import GenerationResult, genome_weights, noise_seed, score_generation
 from ..evolution import generation_setups
-from ..topics import COMMAND, SENSORS
+from ..topics import COMMAND, LOCKSTEP, SENSORS, SERVICES
 from ..trials import TrialMeasures
 from ..world import TrialSetup
 from . import graph
 from .runner import check_stop
+
+
+# How often, at most, a running batch looks at the graph (about 0.1 ms for all topics and
+# services); once more after its last cycle.
+GRAPH_CHECK_SEC = 0.02
+# Who publishes each lockstep topic (named in the log when nothing does).
+ROLES = {"retina": "world", "proprioception": "world", "touch": "world",
+         COMMAND: "controller"}
 
 
 class BatchFailed(GraphError):
@@ -43,7 +54,9 @@ class GraphEvaluator:
         self.last_touch = time.monotonic()
         self.repeats = 0
         self.recorded_trial = -1
-        graph.subscription(node, "touch", self._on_touch, raw=True)
+        self.checked_graph = 0.0
+        self.world = graph.Partner(node, "touch", graph.RateLimitedLog(node))
+        graph.subscription(node, "touch", self._on_touch, raw=True, with_publisher=True)
         self.set_weights = graph.client(node, "set_weights")
         self.reset_trials = graph.client(node, "reset_trials")
 
@@ -110,6 +123,7 @@ class GraphEvaluator:
                     self.recorder.stop()
 
     def _run_once(self, weights_request, reset_request) -> np.ndarray:
+        self._check_graph("before the batch")
         reply = self._call(self.set_weights, weights_request, "set_weights")
         if not reply.success:
             raise GraphError(f"the controller refused the weights: {reply.message}")
@@ -129,7 +143,8 @@ class GraphEvaluator:
         while len(heard) < cycles + 1:
             self._spin_once()
             heard = self.touch.setdefault(trial, {})
-            self._check_alive(len(heard) - 1, cycles)
+            self._check_running(len(heard) - 1, cycles)
+        self._check_graph(f"after cycle {cycles} of {cycles}")
         contact = np.empty((cycles, n), dtype=bool)
         for t in range(1, cycles + 1):
             if len(heard[t]) != n:
@@ -139,15 +154,44 @@ class GraphEvaluator:
         del self.touch[trial]
         return contact
 
-    def _check_alive(self, cycle: int, cycles: int) -> None:
-        if self.node.count_publishers(COMMAND) == 0:
-            raise BatchFailed(f"the controller vanished (nothing publishes muscle_command) at "
-                              f"cycle {cycle} of {cycles}")
-        if self.node.count_publishers("touch") == 0:
-            raise BatchFailed(f"the world vanished at cycle {cycle} of {cycles}")
+    def _check_running(self, cycle: int, cycles: int) -> None:
+        """BatchFailed if the batch cannot finish, or the graph is not one world, one
+        controller and this supervisor any more (looked at every GRAPH_CHECK_SEC)."""
         if time.monotonic() - self.last_touch > self.stall_timeout:
             raise BatchFailed(f"no cycle for {self.stall_timeout:g} s after cycle {cycle} of "
                               f"{cycles} (controller or world gone?)")
+        if time.monotonic() - self.checked_graph > GRAPH_CHECK_SEC:
+            self._check_graph(f"at cycle {cycle} of {cycles}")
+
+    def _check_graph(self, when: str) -> None:
+        self.checked_graph = time.monotonic()
+        problems = self.graph_problems()
+        if problems:
+            raise BatchFailed(f"{'; '.join(problems)} {when}")
+
+    def graph_problems(self) -> list[str]:
+        """What keeps the graph from being one world, one controller and this supervisor: a
+        node missing, or a second publisher of a lockstep topic, server or client of a service
+        (another graph on this ROS domain and namespace, a stray node, or a killed node that
+        stays listed until its DDS lease runs out). Empty when all is well."""
+        problems = []
+        for topic in LOCKSTEP:
+            count = self.node.count_publishers(topic)
+            if count == 0:
+                problems.append(f"no {ROLES[topic]} (nothing publishes {topic})")
+            elif count > 1:
+                names = sorted(graph.node_of(info) for info in
+                               self.node.get_publishers_info_by_topic(
+                                   self.node.resolve_topic_name(topic)))
+                problems.append(f"{count} publishers of {topic} (nodes {', '.join(names)})")
+        for service in SERVICES:
+            servers, clients = (self.node.count_services(service),
+                                self.node.count_clients(service))
+            if servers != 1:
+                problems.append(f"{servers} servers of {service}")
+            if clients != 1:
+                problems.append(f"{clients} clients of {service} (this supervisor is one)")
+        return problems
 
     def _finish_recording(self, cycles: int) -> None:
         """After the last touch: wait until the trial's other sensor messages are recorded."""
@@ -161,8 +205,10 @@ class GraphEvaluator:
         self.spin_until(lambda: False, 0.2)     # the last display pictures
 
     # -- plumbing ---------------------------------------------------------------------------
-    def _on_touch(self, data: bytes) -> None:
-        """A serialized Touch message (see wire)."""
+    def _on_touch(self, data: bytes, publisher: bytes) -> None:
+        """A serialized Touch message (see wire), counted only if it comes from the world."""
+        if not self.world.accepts(publisher):
+            return
         msg = graph.decode(self.node, "touch", data)
         if msg is None:
             return
@@ -197,18 +243,16 @@ class GraphEvaluator:
         return future.result()
 
     def wait_for_graph(self) -> None:
-        """Block (logging now and then) until both services and the muscle commands exist."""
-        said = 0.0
+        """Block until the graph is one world, one controller and this supervisor, with both
+        services ready; saying what is wrong whenever that changes, and every 5 s."""
+        said, said_at = "", 0.0
         while True:
-            missing = [name for name, ok in (
-                ("controller (set_weights service)", self.set_weights.service_is_ready()),
-                ("world (reset_trials service)", self.reset_trials.service_is_ready()),
-                ("controller (muscle_command publisher)",
-                 self.node.count_publishers(COMMAND) > 0),
-                ("world (touch publisher)", self.node.count_publishers("touch") > 0)) if not ok]
-            if not missing:
+            problems = self.graph_problems()
+            if not problems and self.set_weights.service_is_ready() and \
+                    self.reset_trials.service_is_ready():
                 return
-            if time.monotonic() - said > 5.0:
-                self.node.get_logger().info("waiting for " + ", ".join(missing))
-                said = time.monotonic()
+            why = "; ".join(problems) or "services not ready"
+            if why != said or time.monotonic() - said_at > 5.0:
+                self.node.get_logger().warning(f"waiting for the graph: {why}")
+                said, said_at = why, time.monotonic()
             self.spin_until(lambda: False, 0.1)

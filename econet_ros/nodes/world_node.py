@@ -7,7 +7,8 @@ Publishes   trial_start (econet_msgs/TrialStart) at every reset; retina (econet_
             (visualization_msgs/MarkerArray) for one display environment, throttled, built by
             recording/display.py and sent as bytes; /tf_static (tf2_msgs/TFMessage) once,
             where tf2_msgs is installed
-Subscribes  muscle_command (econet_msgs/MuscleCommand)
+Subscribes  muscle_command (econet_msgs/MuscleCommand), taken only from one publisher: the
+            controller it pairs with (graph.Partner)
 Serves      reset_trials (econet_msgs/ResetTrials)
 """
 from __future__ import annotations
@@ -84,7 +85,8 @@ class WorldNode(Node):
         self.pub_joints = graph.publisher(self, "joint_states")
         self.pub_markers = graph.publisher(self, "markers")
         self._publish_frame()
-        graph.subscription(self, COMMAND, self._on_command, raw=True)
+        self.controller = graph.Partner(self, COMMAND, self.refusals)
+        graph.subscription(self, COMMAND, self._on_command, raw=True, with_publisher=True)
         graph.service(self, "reset_trials", self._on_reset)
 
         if self.mode == "free":
@@ -161,8 +163,11 @@ class WorldNode(Node):
         return setup
 
     # -- commands ---------------------------------------------------------------------------
-    def _on_command(self, data: bytes) -> None:
-        """A serialized MuscleCommand (see wire: read in place, no message object)."""
+    def _on_command(self, data: bytes, publisher: bytes) -> None:
+        """A serialized MuscleCommand (see wire: read in place, no message object), applied
+        only if it comes from the partner controller."""
+        if not self.controller.accepts(publisher):
+            return
         msg = graph.decode(self, COMMAND, data)
         if msg is None:
             return
