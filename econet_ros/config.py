@@ -19,14 +19,19 @@ from typing import Any, NamedTuple
 from .errors import ConfigError
 
 CONDITIONS = ("normal", "three-layer", "random")
+OPTIMIZERS = ("ga", "cmaes", "es")
 
 
 def setting(default: Any, help: str, *, paper: bool = False, choices: tuple | None = None,
-            low: float | None = None, high: float | None = None):
+            low: float | None = None, high: float | None = None, optional: bool = False):
     """A config field: default, help text, whether the paper states it (else it is our
-    assumption), and the values it may take (choices, or the closed range low..high)."""
+    assumption), and the values it may take (choices, or the closed range low..high).
+
+    optional: the setting came after result folders existed, so a stored config leaves it out
+    while it holds its default; folders written before it existed stay valid, and new ones
+    made with the default stay byte-identical to them."""
     return field(default=default, metadata={"help": help, "paper": paper, "choices": choices,
-                                            "low": low, "high": high})
+                                            "low": low, "high": high, "optional": optional})
 
 
 @dataclass(frozen=True)
@@ -90,6 +95,16 @@ class EvolutionConfig:
                                  "exact: exactly that share of each genome's bits",
                                  choices=("per-bit", "exact"))
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
+    optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
+                             "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
+                             "es (an OpenAI-style evolution strategy); docs/gym.md",
+                             choices=OPTIMIZERS, optional=True)
+    cmaes_sigma: float = setting(3.0, "cmaes: initial step size, in weight units (chosen "
+                                 "by a pilot; docs/gym.md)", low=1e-6, optional=True)
+    es_sigma: float = setting(1.0, "es: standard deviation of the perturbations, in weight "
+                              "units (chosen by a pilot; docs/gym.md)", low=1e-6, optional=True)
+    es_learning_rate: float = setting(0.3, "es: Adam's step size, in weight units (chosen by "
+                                      "a pilot; docs/gym.md)", low=1e-9, optional=True)
 
 
 SECTIONS = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}
@@ -107,6 +122,7 @@ class Setting(NamedTuple):
     choices: tuple | None
     low: float | None
     high: float | None
+    optional: bool
 
     @property
     def key(self) -> str:
@@ -124,7 +140,8 @@ class Setting(NamedTuple):
 
 SETTINGS: tuple[Setting, ...] = tuple(
     Setting(section, f.name, f.default, type(f.default), f.metadata["help"],
-            f.metadata["paper"], f.metadata["choices"], f.metadata["low"], f.metadata["high"])
+            f.metadata["paper"], f.metadata["choices"], f.metadata["low"], f.metadata["high"],
+            f.metadata["optional"])
     for section, cls in SECTIONS.items() for f in fields(cls))
 
 
@@ -176,7 +193,12 @@ class Config:
         return self.evolution.population // self.evolution.parents
 
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        """Every setting by section, except optional ones that hold their default."""
+        data = dataclasses.asdict(self)
+        for item in SETTINGS:
+            if item.optional and data[item.section][item.name] == item.default:
+                del data[item.section][item.name]
+        return data
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)
@@ -195,11 +217,12 @@ class Config:
 
     def replace(self, **dotted: object) -> "Config":
         """Copy with settings changed by dotted name, e.g. replace(**{"evolution.trials": 5})."""
-        data = self.to_dict()
+        data = dataclasses.asdict(self)
+        known = {item.key for item in SETTINGS}
         for key, value in dotted.items():
-            section, _, name = key.partition(".")
-            if section not in data or name not in data[section]:
+            if key not in known:
                 raise ConfigError(f"unknown setting '{key}'")
+            section, _, name = key.partition(".")
             data[section][name] = value
         return Config.from_dict(data)
 
@@ -216,6 +239,9 @@ class Config:
              "reach_min/reach_max must satisfy 0 <= reach_min <= reach_max <= arm length + radius"),
             (m.visual_units * m.windows_per_unit == round(m.field_of_view_deg),
              "visual_units x windows_per_unit must equal the field of view in degrees"),
+            (e.optimizer != "es" or e.population % 2 == 0,
+             f"the es optimizer tests antithetic pairs: population must be even, got "
+             f"{e.population}"),
         ]
         for ok, message in checks:
             if not ok:
