@@ -10,7 +10,6 @@ or resume runs against exactly the model that produced the data.
 """
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 from dataclasses import dataclass, field, fields
@@ -19,19 +18,23 @@ from typing import Any, NamedTuple
 from .errors import ConfigError
 
 CONDITIONS = ("normal", "three-layer", "random")
-OPTIMIZERS = ("ga", "cmaes", "es")
+MUTATIONS = ("per-bit", "exact", "weights")         # genome.mutate's modes
+CODES = ("binary", "gray")                          # genome.decode's codes
+BODY_AXES = ("unbounded", "within-360")
+SHOULDER_CONVENTIONS = ("centred", "forward")
+OPTIMIZERS = ("ga", "cmaes", "es")                  # optimizers.py
 
 
 def setting(default: Any, help: str, *, paper: bool = False, choices: tuple | None = None,
-            low: float | None = None, high: float | None = None, optional: bool = False):
+            low: float | None = None, high: float | None = None, added: bool = False):
     """A config field: default, help text, whether the paper states it (else it is our
     assumption), and the values it may take (choices, or the closed range low..high).
 
-    optional: the setting came after result folders existed, so a stored config leaves it out
-    while it holds its default; folders written before it existed stay valid, and new ones
-    made with the default stay byte-identical to them."""
+    added: the setting came after result format 1; it is stored (run.json, bags) only when it
+    differs from its default, so older folders, which lack it, read as the default and results
+    of the default model stay byte-identical."""
     return field(default=default, metadata={"help": help, "paper": paper, "choices": choices,
-                                            "low": low, "high": high, "optional": optional})
+                                            "low": low, "high": high, "added": added})
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,15 @@ class ModelConfig:
     start_posture: str = setting("random", "trial start: random body axis and joints, or "
                                  "'extended' (gaze +x, arm straight out)",
                                  choices=("random", "extended"))
+    body_axis: str = setting("unbounded", "body/eye axis: 'unbounded' (turns any number of "
+                             "circles) or 'within-360' (stops 360 degrees either side of its "
+                             "trial start: 'a full 360 degrees in either direction')",
+                             choices=BODY_AXES, added=True)
+    shoulder_convention: str = setting("centred", "shoulder range: 'centred' (0-180 spans 90 "
+                                       "degrees either side of the gaze; extended = 90 right) or "
+                                       "'forward' (extended = along the gaze, flexing sweeps "
+                                       "left to straight back); docs/assumptions.md",
+                                       choices=SHOULDER_CONVENTIONS, added=True)
 
 
 @dataclass(frozen=True)
@@ -91,20 +103,27 @@ class EvolutionConfig:
                                    high=16)
     mutation_rate: float = setting(0.02, "share of bits flipped when copying", paper=True,
                                    low=0.0, high=1.0)
-    mutation_mode: str = setting("per-bit", "per-bit: each bit flips with mutation_rate; "
-                                 "exact: exactly that share of each genome's bits",
-                                 choices=("per-bit", "exact"))
+    mutation_mode: str = setting("per-bit", "per-bit: each bit flips with mutation_rate "
+                                 "(Appendix); exact: exactly that share of each genome's bits; "
+                                 "weights: that share of weights each moves 1..mutation_step "
+                                 "grid points up or down (body text)", choices=MUTATIONS)
+    mutation_step: int = setting(4, "weights mutation: largest move, in grid points of "
+                                 "2 x weight_range / (2^bits - 1) (0.078 in the paper's grid)",
+                                 low=1, high=255, added=True)
+    genome_code: str = setting("binary", "how a weight's grid point is coded in its bits: "
+                               "binary, or gray (neighbouring points differ in one bit)",
+                               choices=CODES, added=True)
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
     optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
                              "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
                              "es (an OpenAI-style evolution strategy); docs/gym.md",
-                             choices=OPTIMIZERS, optional=True)
+                             choices=OPTIMIZERS, added=True)
     cmaes_sigma: float = setting(3.0, "cmaes: initial step size, in weight units (chosen "
-                                 "by a pilot; docs/gym.md)", low=1e-6, optional=True)
+                                 "by a pilot; docs/gym.md)", low=1e-6, added=True)
     es_sigma: float = setting(1.0, "es: standard deviation of the perturbations, in weight "
-                              "units (chosen by a pilot; docs/gym.md)", low=1e-6, optional=True)
+                              "units (chosen by a pilot; docs/gym.md)", low=1e-6, added=True)
     es_learning_rate: float = setting(0.3, "es: Adam's step size, in weight units (chosen by "
-                                      "a pilot; docs/gym.md)", low=1e-9, optional=True)
+                                      "a pilot; docs/gym.md)", low=1e-9, added=True)
 
 
 SECTIONS = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}
@@ -122,7 +141,6 @@ class Setting(NamedTuple):
     choices: tuple | None
     low: float | None
     high: float | None
-    optional: bool
 
     @property
     def key(self) -> str:
@@ -140,8 +158,7 @@ class Setting(NamedTuple):
 
 SETTINGS: tuple[Setting, ...] = tuple(
     Setting(section, f.name, f.default, type(f.default), f.metadata["help"],
-            f.metadata["paper"], f.metadata["choices"], f.metadata["low"], f.metadata["high"],
-            f.metadata["optional"])
+            f.metadata["paper"], f.metadata["choices"], f.metadata["low"], f.metadata["high"])
     for section, cls in SECTIONS.items() for f in fields(cls))
 
 
@@ -193,12 +210,8 @@ class Config:
         return self.evolution.population // self.evolution.parents
 
     def to_dict(self) -> dict:
-        """Every setting by section, except optional ones that hold their default."""
-        data = dataclasses.asdict(self)
-        for item in SETTINGS:
-            if item.optional and data[item.section][item.name] == item.default:
-                del data[item.section][item.name]
-        return data
+        """Nested sections as stored in run.json (added settings only when not default)."""
+        return {name: section_dict(getattr(self, name)) for name in SECTIONS}
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), indent=2, sort_keys=True)
@@ -217,7 +230,7 @@ class Config:
 
     def replace(self, **dotted: object) -> "Config":
         """Copy with settings changed by dotted name, e.g. replace(**{"evolution.trials": 5})."""
-        data = dataclasses.asdict(self)
+        data = self.to_dict()
         known = {item.key for item in SETTINGS}
         for key, value in dotted.items():
             if key not in known:
@@ -249,6 +262,12 @@ class Config:
         return self
 
 
+def section_dict(section) -> dict:
+    """One section's settings as stored: every field, except added ones at their default."""
+    return {f.name: getattr(section, f.name) for f in fields(section)
+            if not (f.metadata["added"] and getattr(section, f.name) == f.default)}
+
+
 def section_from_dict(name: str, values: Any):
     """One section's dataclass from a dict of its settings, each checked on its own."""
     if not isinstance(values, dict):
@@ -275,7 +294,7 @@ def load_config(path: str) -> Config:
 
 def model_json(model: ModelConfig) -> str:
     """The model section as the JSON a TrialStart message (and so every bag) carries."""
-    return json.dumps(dataclasses.asdict(model), sort_keys=True)
+    return json.dumps(section_dict(model), sort_keys=True)
 
 
 def model_from_json(text: str) -> ModelConfig:

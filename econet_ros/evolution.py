@@ -3,8 +3,9 @@
 Each generation every econet is tested on the same ``trials`` random trial starts (one batch of
 population x trials environments, environment e = econet * trials + trial), the econets are
 ranked by fitness, the best ``parents`` are kept and each is copied population/parents times
-with bit-flip mutation. Every random draw comes from a stream named by (seed, run, generation,
-purpose), so a run is a pure function of its seed and can resume from any finished generation.
+with mutation (genome.mutate; which reading of the paper, config evolution.mutation_mode).
+Every random draw comes from a stream named by (seed, run, generation, purpose), so a run is a
+pure function of its seed and can resume from any finished generation.
 The loop that runs generations into a result folder is ``runs.evolve_into``; an ``Evaluator``
 is what it tests populations with (this in-process one, or the node graph's), and an optimizer
 (optimizers.py: this GA, or CMA-ES or an evolution strategy in its place) what breeds them.
@@ -40,7 +41,7 @@ def noise_seed(seed: int, run: int, generation: int) -> int:
 def genome_weights(config: Config, genomes: np.ndarray) -> np.ndarray:
     """The real-valued weights genomes code for (the one decode every caller uses)."""
     e = config.evolution
-    return genome.decode(genomes, e.bits_per_weight, e.weight_range)
+    return genome.decode(genomes, e.bits_per_weight, e.weight_range, e.genome_code)
 
 
 def generation_setups(config: Config, seed: int, run: int, generation: int) -> TrialSetup:
@@ -128,4 +129,5 @@ def next_generation(config: Config, result: GenerationResult, seed: int, run: in
     e = config.evolution
     copies = np.repeat(result.genomes[result.parents], config.offspring_per_parent, axis=0)
     rng = rng_for(seed, run, result.generation, _MUTATION)
-    return genome.mutate(rng, copies, e.bits_per_weight, e.mutation_rate, e.mutation_mode)
+    return genome.mutate(rng, copies, e.bits_per_weight, e.mutation_rate, e.mutation_mode,
+                         e.mutation_step, e.genome_code)

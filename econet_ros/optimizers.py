@@ -74,7 +74,7 @@ class AskTellOptimizer(Optimizer):
         """The genome codes a generation's candidates are tested as."""
         e = self.config.evolution
         return genome.encode(fold_into_range(candidates, e.weight_range), e.bits_per_weight,
-                             e.weight_range)
+                             e.weight_range, e.genome_code)
 
     def first_generation(self) -> np.ndarray:
         return self.codes(self.ask())

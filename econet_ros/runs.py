@@ -158,8 +158,8 @@ class RunData:
             raise ResultsError(f"{meta} holds an unreadable config: {error}") from None
         self.seed = int(self.header["seed"])
         self.run = int(self.header["run"])
-        with open(self.path / "metrics.csv", newline="", encoding="utf-8") as handle:
-            rows = list(csv.DictReader(handle))
+        text = (self.path / "metrics.csv").read_text(encoding="utf-8")
+        rows = list(csv.DictReader(text[:text.rfind("\n") + 1].splitlines()))  # whole rows
         self.metrics = {c: np.array([float(r[c]) for r in rows]) for c in METRIC_COLUMNS}
         self.generations_done = len(rows)
 
@@ -252,9 +252,9 @@ def summarize(out: Path, runs: int) -> str:
     lines = [f"results: {Path(out).resolve()}"]
     for run in range(1, runs + 1):
         data = RunData(run_folder(out, run))
-        top = data.metrics["top_fitness"]
+        top, best = data.metrics["top_fitness"], int(data.metrics["best_fitness"][-1])
         lines.append(f"  run-{run:02d}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
-                     f"(gen {data.generations_done - 1}), best {int(data.metrics['best_fitness'][-1])}")
+                     f"(gen {data.generations_done - 1}), best {best}")
     lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
                  "genomes.npy, fitness.npy, best_genomes.npy")
     return "\n".join(lines)

@@ -83,10 +83,10 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
         contact = np.zeros((cycles, n), dtype=np.bool_)
         table = policy.motor_table if policy.motor_table is not None else np.zeros((1, 1, 5))
         arrays = [getattr(trace, f) for f in _PER_CYCLE] if record else _NO_TRACE
-        _run_compiled(world.body, world.shoulder, world.elbow, world.object_xy, world.geometry,
-                      world.edges[0], world.edges[1], policy.weights, policy.block,
-                      policy.layers, policy.buffer_size, table, policy.motor_table is not None,
-                      contact, record, *arrays)
+        _run_compiled(world.body, world.body_start, world.shoulder, world.elbow,
+                      world.object_xy, world.geometry, world.edges[0], world.edges[1],
+                      policy.weights, policy.block, policy.layers, policy.buffer_size, table,
+                      policy.motor_table is not None, contact, record, *arrays)
         world.cycle = cycles
         world.refresh()
         return TrialMeasures.from_contact(contact), trace
@@ -138,9 +138,9 @@ def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder
 
 
 @numba.njit(cache=True, parallel=True)
-def _run_compiled(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights, block, layers,
-                  buffer_size, motor_table, use_table, contact, record, t_body, t_shoulder,
-                  t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor):
+def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights,
+                  block, layers, buffer_size, motor_table, use_table, contact, record, t_body,
+                  t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor):
     """Whole trials for each block of environments that share one network: sense, choose
     outputs, move, repeat. Activations are (units, envs of the block), as in forward_block."""
     n_inputs = geo.visual_units + 5
@@ -162,7 +162,8 @@ def _run_compiled(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights
                             buffer[motor_rows + u, m]
                     body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i],
                                                           motor[0], motor[1], motor[2],
-                                                          motor[3], motor[4], geo)
+                                                          motor[3], motor[4], geo,
+                                                          body_start[i])
                     if record:
                         t_motor[t - 1, i, :] = motor
                 seen = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1],

@@ -149,15 +149,20 @@ class Geometry(NamedTuple):
     window: float
     windows_per_unit: int
     visual_units: int
+    tip_base: float        # tip direction = tip_base - q_s - q_e / 2 (degrees, eye frame)
+    body_range: float      # the body axis stays within +-this of its trial start (inf: free)
 
     @classmethod
     def of(cls, model: ModelConfig) -> "Geometry":
         n_windows = model.visual_units * model.windows_per_unit
+        # upper arm at 90 - q_s (centred) or 180 - q_s (forward); the tip 90 degrees further
+        tip_base = 180.0 if model.shoulder_convention == "centred" else 270.0
+        body_range = math.inf if model.body_axis == "unbounded" else 360.0
         return cls(model.segment_length, model.hand_length, model.object_radius,
                    model.visual_range, model.joint_max_deg, model.max_rotation_deg,
                    math.radians(model.field_of_view_deg) / 2,
                    math.radians(model.field_of_view_deg / n_windows), model.windows_per_unit,
-                   model.visual_units)
+                   model.visual_units, tip_base, body_range)
 
     def window_edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Unit vectors (x, y) of the window edges in the eye's frame, right to left."""
@@ -175,6 +180,7 @@ class World:
         self.edges = self.geometry.window_edges()
         self.n_envs = n_envs
         self.body = np.zeros(n_envs)
+        self.body_start = np.zeros(n_envs)   # where each trial's body axis started
         self.shoulder = np.full(n_envs, model.joint_max_deg)
         self.elbow = np.full(n_envs, model.joint_max_deg)
         self.object_xy = np.full((n_envs, 2), model.reach_max)
@@ -188,6 +194,7 @@ class World:
             raise SetupError(f"reset needs {self.n_envs} trial setups, got {len(setup)}")
         check_setup(setup, self.model)
         self.body = np.array(setup.body, dtype=np.float64)
+        self.body_start = self.body.copy()
         self.shoulder = np.array(setup.shoulder, dtype=np.float64)
         self.elbow = np.array(setup.elbow, dtype=np.float64)
         self.object_xy = np.array(setup.object_xy, dtype=np.float64)
@@ -213,6 +220,7 @@ class World:
         check_setup(setup, self.model)
         self.body[envs], self.shoulder[envs], self.elbow[envs] = \
             setup.body, setup.shoulder, setup.elbow
+        self.body_start[envs] = setup.body
         self.object_xy[envs] = setup.object_xy
         senses, fixated = np.empty((len(envs), self.senses.shape[1])), np.empty(len(envs), bool)
         _sense_batch(self.body[envs], self.shoulder[envs], self.elbow[envs],
@@ -232,7 +240,8 @@ class World:
                               f"got {motor.shape}")
         senses, fixated = self._new_senses()
         if not _step_batch(self.body, self.shoulder, self.elbow, motor, self.object_xy,
-                           self.geometry, self.edges[0], self.edges[1], senses, fixated):
+                           self.geometry, self.edges[0], self.edges[1], senses, fixated,
+                           self.body_start):
             raise ActionError("motor command contains NaN or infinite values")
         self.senses, self.fixated = senses, fixated
         self.cycle += 1
@@ -262,18 +271,22 @@ class World:
 
 # --- compiled kernels --------------------------------------------------------------------------
 # Each quantity is computed by one inlined per-environment function; the batch kernels here and
-# the whole-trial kernel in engine.py only loop over environments and cycles around them.
+# the whole-trial kernel in trials.py only loop over environments and cycles around them.
 
 @numba.njit(cache=True, inline="always")
 def arm_in_eye_frame(shoulder, elbow, geo):
     """Elbow, hand-base and hand-tip coordinates of one arm in the eye's frame (x along the body
     axis), and the tip's direction in degrees.
 
-    The upper arm points at 90 - q_s degrees and the forearm turns 180 - q_e further, so the tip
-    lies 2 L sin(q_e / 2) from the shoulder in direction 180 - q_s - q_e / 2. Computed this way a
-    fully folded elbow puts the tip exactly on the eye, with the direction it approaches from."""
+    The upper arm points at 90 - q_s degrees (the 'forward' shoulder convention: 180 - q_s) and
+    the forearm turns 180 - q_e further, so the tip lies 2 L sin(q_e / 2) from the shoulder in
+    direction 180 - q_s - q_e / 2 (forward: 270 - ...), given here within (-180, 180]. Computed
+    this way a fully folded elbow puts the tip exactly on the eye, with the direction it
+    approaches from."""
     half_cos, half_sin = cos_sin_deg(0.5 * elbow)
-    tip_angle = 180.0 - shoulder - 0.5 * elbow
+    tip_angle = geo.tip_base - shoulder - 0.5 * elbow
+    if tip_angle > 180.0:
+        tip_angle -= 360.0
     tip_cos, tip_sin = cos_sin_deg(tip_angle)
     reach = 2.0 * geo.segment * half_sin
     tx, ty = reach * tip_cos, reach * tip_sin
@@ -324,11 +337,13 @@ def _clip01(x):
 
 
 @numba.njit(cache=True, inline="always")
-def move(body, shoulder, elbow, eye, s_flex, s_ext, e_flex, e_ext, geo):
-    """The state after one motor command (outputs clipped to [0, 1])."""
+def move(body, shoulder, elbow, eye, s_flex, s_ext, e_flex, e_ext, geo, body_start):
+    """The state after one motor command (outputs clipped to [0, 1]); the body axis stays within
+    geo.body_range of its trial start (an infinite range changes nothing)."""
     eye, s_flex, s_ext = _clip01(eye), _clip01(s_flex), _clip01(s_ext)
     e_flex, e_ext = _clip01(e_flex), _clip01(e_ext)
     body = body + 2.0 * geo.max_rotation * (eye - 0.5)
+    body = min(max(body, body_start - geo.body_range), body_start + geo.body_range)
     shoulder = min(max(shoulder - geo.max_rotation * (s_flex - s_ext), 0.0), geo.joint_max)
     elbow = min(max(elbow - geo.max_rotation * (e_flex - e_ext), 0.0), geo.joint_max)
     return body, shoulder, elbow
@@ -461,7 +476,7 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
     if hand_out:
         h_first, h_last = n_windows, -1
     else:
-        # The tip's direction comes from the joint angles (in [-90, 180] degrees), defined even
+        # The tip's direction comes from the joint angles (in (-180, 180] degrees), defined even
         # when a folded elbow puts the tip on the eye: the hand then spans the quarter turn from
         # the upper arm to the tip's direction, at distance 0.
         ap, aq = atan2_approx(py, px), math.radians(tip_angle)
@@ -519,7 +534,8 @@ def _sense_batch(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, senses, 
 
 
 @numba.njit(cache=True, parallel=True)
-def _step_batch(body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, senses, fixated):
+def _step_batch(body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, senses, fixated,
+                body_start):
     """One cycle of World.step in one parallel launch: move, then sense. Returns False,
     changing nothing, if a command is not finite."""
     for i in range(motor.shape[0]):
@@ -529,7 +545,7 @@ def _step_batch(body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, se
     for i in numba.prange(body.shape[0]):
         body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
                                               motor[i, 1], motor[i, 2], motor[i, 3],
-                                              motor[i, 4], geo)
+                                              motor[i, 4], geo, body_start[i])
         fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
                            edge_x, edge_y, senses[i])
     return True

@@ -205,3 +205,32 @@ def test_summarize_reaches_follows_its_definitions_on_real_reaches():
         assert 0 <= s < c and closing[s:c, env].all()     # unbroken approach to first contact
         assert s == 0 or not closing[s - 1, env]          # ...and no longer
     assert summary.final_approach_cycles == pytest.approx(np.mean(first[valid] - starts[valid]))
+
+def test_joint_mobility_tells_a_turning_eye_from_a_frozen_shoulder():
+    """Eye at full speed (15 deg a cycle), shoulder muscles equal (frozen by coactivation),
+    elbow extending 7.5 deg a cycle until it stops at 180: worked by hand."""
+    n, cycles = 4, 12
+    config = Config()
+    world = World(n, config.model)
+    controller = Scripted(n, config, [1.0, 0.6, 0.6, 0.25, 0.75])
+    _, trace = run_trials(world, controller, far_setup(n, elbow=120.0), cycles, record=True)
+    pre = A.pre_contact(trace)
+    assert pre.all()                                   # the object is out of reach behind
+    assert A.moving_share(trace, "body", pre) == 1.0
+    assert A.moving_share(trace, "shoulder", pre) == 0.0
+    assert A.moving_share(trace, "elbow", pre) == pytest.approx(8 / 12)   # 120 -> 180 in 8
+    assert A.excursion(trace, "body", pre) == pytest.approx(15.0 * cycles)
+    assert A.excursion(trace, "shoulder", pre) == 0.0
+    assert A.excursion(trace, "elbow", pre) == pytest.approx(60.0)
+    # 0.6/0.6 at the shoulder is co-contraction; 0.25/0.75 at the elbow is neither
+    assert A.both_share(trace, A.SHOULDER, True, pre) == 1.0
+    assert A.both_share(trace, A.SHOULDER, False, pre) == 0.0
+    assert A.both_share(trace, A.ELBOW, True, pre) == A.both_share(trace, A.ELBOW, False, pre) == 0
+
+
+def test_latency_of_successes_counts_only_trials_that_touch():
+    trace = scripted_trace([0.5, 0.5, 0.5, 0.5, 0.5])      # a still arm: few contacts
+    hit = trace.touch[1:].any(axis=0)
+    first = trace.touch[1:].argmax(axis=0) + 1
+    expected = first[hit].mean() if hit.any() else np.nan
+    np.testing.assert_equal(A.latency_of_successes(trace), expected)

@@ -24,7 +24,7 @@ def core_modules() -> list[str]:
 def test_core_modules_load_no_ros():
     core = core_modules()
     assert {"econet_ros.world", "econet_ros.controllers", "econet_ros.trials",
-            "econet_ros.science.measures",
+            "econet_ros.science.measures", "econet_ros.science.claims",
             "econet_ros.recording.bags", "econet_ros.cli.main", "econet_ros.topics"} <= set(core)
     code = ("import sys\n"
             + "".join(f"import {name}\n" for name in core)

@@ -267,3 +267,14 @@ def test_reset_refuses_what_it_cannot_run_instead_of_clipping(change, fragment):
         setattr(setup, name, value)
     with pytest.raises(SetupError, match=fragment.replace("(", r"\(").replace(")", r"\)")):
         World(1, MODEL).reset(setup)
+
+
+def test_the_papers_figure_1_vision_example():
+    """The Appendix: in Figure 1 (shoulder about 126 degrees, elbow about 85, the object out of
+    view) the visual units read (0 0 0 0 0.19 0.17 0 [0]). Worked by hand with the documented
+    geometry: the upper arm points 36 degrees right of the gaze, the elbow bends it 95 degrees
+    back to the left, so the hand runs from 30.6 units at 4.5 degrees to 33.8 units at 11.5
+    degrees left of the gaze: windows 36-43, half of unit 4 and half of unit 5, at about
+    1 - 32/50."""
+    vision = world_at(body=0, shoulder=126, elbow=85).observe().vision[0]
+    np.testing.assert_allclose(vision, [0, 0, 0, 0, 0.19, 0.17, 0, 0], atol=0.005)

@@ -5,6 +5,8 @@
     analyze   figures and report again from a study folder
     evaluate  trials with any controller, the paper's measures, optionally a bag
     bag       inspect, score, render and replay recorded trials
+    sweep     sweeps over the paper's open choices (Ray), and their report
+    compare   paired statistics between two sets of runs (studies, sweep cells)
 
 Every command checks its input before any work starts; an EconetError anywhere ends here as one
 line on stderr and exit status 2.
@@ -14,10 +16,11 @@ from __future__ import annotations
 import sys
 
 from ..errors import EconetError
-from . import bag, evaluate, evolve, study
+from . import bag, compare, evaluate, evolve, study, sweep
 from .options import Parser
 
-COMMANDS = (evolve, study, evaluate, bag)   # each module's add_parser registers its commands
+# each module's add_parser registers its commands
+COMMANDS = (evolve, study, sweep, compare, evaluate, bag)
 
 
 def build_parser() -> Parser:

@@ -42,7 +42,7 @@ def add_parser(commands) -> None:
     analyze.add_argument("results", metavar="RESULTS_DIR", help="folder made by econet study")
     _add_report_options(analyze, "RESULTS_DIR")
     analyze.set_defaults(handler=lambda args: report(Path(args.results), args.report,
-                                                     args.figures))
+                                                     args.figures, args.sweep))
 
 
 def _add_report_options(parser: argparse.ArgumentParser, folder: str) -> None:
@@ -50,6 +50,9 @@ def _add_report_options(parser: argparse.ArgumentParser, folder: str) -> None:
                         help=f"report path (default: {folder}/report.md)")
     parser.add_argument("--figures", metavar="DIR",
                         help="figures folder (default: the report's folder/figures)")
+    parser.add_argument("--sweep", metavar="DIR", action="append", default=[],
+                        help="also summarise this sweep folder (econet sweep run) in the "
+                             "report, with the decision rule applied; repeatable")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -75,15 +78,16 @@ def run(args: argparse.Namespace) -> int:
                      args.sensitivity_runs if variants else None)
     seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
     print(f"evolution: {seconds / 60:.1f} min")
-    return report(out, args.report, args.figures)
+    return report(out, args.report, args.figures, args.sweep)
 
 
-def report(out: Path, report_path: str | None, figures: str | None) -> int:
+def report(out: Path, report_path: str | None, figures: str | None,
+           sweeps: list[str] = ()) -> int:
     from ..science.report import build_report   # matplotlib: late
 
     started = time.time()
     path, notes = build_report(out, Path(report_path) if report_path else None,
-                               Path(figures) if figures else None)
+                               Path(figures) if figures else None, [Path(s) for s in sweeps])
     for note in notes:
         print(f"note: {note}")
     print(f"report: {path} (analysis {time.time() - started:.0f} s)")

@@ -18,29 +18,41 @@ LESION_TRIALS = 50     # fresh trials per selected econet in the lesion test
 LESION_PURPOSE = 7     # random stream (evolution.rng_for) used for the lesion trials
 
 
-def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:
+def input_weight_mask(config: Config, condition: str, sense: str = "proprio") -> np.ndarray:
     """Bool mask over a network's flat weight vector: True for every weight leaving one of the
-    four proprioceptive input units (see controllers.py for the layout)."""
+    four proprioceptive input units (sense "proprio") or the visual ones ("vision"); see
+    controllers.py for the layout."""
     vis, net = config.model.visual_units, config.network
     n = make_controller(condition, 1, config).n_params
     mask = np.zeros(n, dtype=bool)
-    if condition == "normal":
-        start = vis * net.visual_hidden     # the proprio -> proprioceptive-hidden layer
-        mask[start:start + N_PROPRIO * net.proprio_hidden] = True
+    first, count = (vis, N_PROPRIO) if sense == "proprio" else (0, vis)
+    if condition == "normal":              # each sense feeds its own intramodal layer
+        start = vis * net.visual_hidden if sense == "proprio" else 0
+        mask[start:start + count * (net.proprio_hidden if sense == "proprio"
+                                    else net.visual_hidden)] = True
     elif condition == "three-layer":
         n_in = vis + N_PROPRIO + 1
         for k in range(net.three_layer_hidden):
-            mask[k * n_in + vis:k * n_in + vis + N_PROPRIO] = True
+            mask[k * n_in + first:k * n_in + first + count] = True
     else:
-        raise ValueError(f"no proprioceptive weights in condition '{condition}'")
+        raise ValueError(f"no input weights in condition '{condition}'")
     return mask
+
+
+def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:
+    return input_weight_mask(config, condition, "proprio")
+
+
+def sever(weights: np.ndarray, config: Config, condition: str, sense: str) -> np.ndarray:
+    """Copy of (n, W) weights with one sense's outgoing weights set to zero."""
+    out = np.array(weights, dtype=np.float64, copy=True)
+    out[:, input_weight_mask(config, condition, sense)] = 0.0
+    return out
 
 
 def sever_proprioception(weights: np.ndarray, config: Config, condition: str) -> np.ndarray:
     """Copy of (n, W) weights with the proprioceptive inputs' outgoing weights set to zero."""
-    out = np.array(weights, dtype=np.float64, copy=True)
-    out[:, proprioceptive_weight_mask(config, condition)] = 0.0
-    return out
+    return sever(weights, config, condition, "proprio")
 
 
 def run_networks(config: Config, condition: str, weights: np.ndarray, setup: TrialSetup,
@@ -58,8 +70,9 @@ def run_networks(config: Config, condition: str, weights: np.ndarray, setup: Tri
 
 
 def lesion_study(run_dirs: list[Path]) -> list[dict]:
-    """Final top-20 econets of each normal run, intact vs proprioception severed, on fresh
-    trials (LESION_TRIALS per econet). Returns one dict per run."""
+    """Final top-20 econets of each normal run, intact, with proprioception severed
+    ("lesioned") and, as a control, with vision severed ("vision-lesioned"), on fresh trials
+    (LESION_TRIALS per econet). Returns one dict per run."""
     out = []
     for path in run_dirs:
         run = RunData(path)
@@ -72,10 +85,11 @@ def lesion_study(run_dirs: list[Path]) -> list[dict]:
         weights = genome_weights(config, run.genomes(g)[parents])
         setup = sample_setups(rng_for(run.seed, run.run, e.generations, LESION_PURPOSE),
                               LESION_TRIALS, config.model)
-        traces = {"intact": run_networks(config, "normal", weights, setup, LESION_TRIALS),
-                  "lesioned": run_networks(config, "normal",
-                                           sever_proprioception(weights, config, "normal"),
-                                           setup, LESION_TRIALS)}
+        traces = {kind: run_networks(config, "normal", changed, setup, LESION_TRIALS)
+                  for kind, changed in (
+                      ("intact", weights),
+                      ("lesioned", sever(weights, config, "normal", "proprio")),
+                      ("vision-lesioned", sever(weights, config, "normal", "vision")))}
         out.append({"run": path.name, "generation": g, "traces": traces,
                     "radius": config.model.object_radius,
                     **{k: summarize_reaches(t) for k, t in traces.items()}})

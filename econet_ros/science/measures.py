@@ -19,6 +19,7 @@ from ..trials import Trace
 
 SQRT2 = np.sqrt(2.0)
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
+CHANCE = 0.5              # P(approach) of a movement at random (paper: Figure 8)
 SHOULDER, ELBOW = (1, 2), (3, 4)   # (flexor, extensor) columns of Trace.motor
 
 
@@ -54,6 +55,31 @@ def mean_angle(trace: Trace, joint: str, mask: np.ndarray | None = None) -> floa
     return _pooled(getattr(trace, joint)[:-1], mask)
 
 
+JOINTS = ("body", "shoulder", "elbow")
+MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
+
+
+def moving_share(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
+    """Share of (pre-contact) cycles in which the joint's angle changes by more than
+    MOVING_DEG: 0 for a locked or frozen joint, whatever holds it there."""
+    mask = pre_contact(trace) if mask is None else mask
+    angle = getattr(trace, joint)
+    return _pooled((np.abs(angle[1:] - angle[:-1]) > MOVING_DEG).astype(float), mask)
+
+
+def excursion(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
+    """Mean over trials of the range (max - min) the joint's angle covers before first contact
+    (rows 0..first contact), in degrees; trials with no pre-contact cycle do not count."""
+    mask = pre_contact(trace) if mask is None else mask
+    rows = np.vstack([mask, np.zeros((1, mask.shape[1]), bool)]) | \
+        np.vstack([np.zeros((1, mask.shape[1]), bool), mask])   # states a pre-contact cycle touches
+    angle = getattr(trace, joint)
+    high = np.where(rows, angle, -np.inf).max(axis=0)
+    low = np.where(rows, angle, np.inf).min(axis=0)
+    counted = mask.any(axis=0)
+    return float((high - low)[counted].mean()) if counted.any() else float("nan")
+
+
 # -- Figures 6 and 7: coactivation / reciprocal activation -----------------------------------
 def coactivation_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
     """Distance of (f, e) from the line f = e (ideal coactivation): |f - e| / sqrt 2."""
@@ -63,6 +89,17 @@ def coactivation_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarr
 def reciprocal_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray:
     """Distance of (f, e) from the line f + e = 1 (ideal reciprocal activation)."""
     return np.abs(flexor + extensor - 1.0) / SQRT2
+
+
+def both_share(trace: Trace, joint: tuple[int, int], high: bool,
+               mask: np.ndarray | None = None) -> float:
+    """Share of (pre-contact) cycles with both muscles of the pair above 0.5 (co-contraction,
+    high=True: a stiffened joint) or both below (co-relaxation: a slack one). Both lie on the
+    ideal coactivation line; only co-contraction is what the paper calls stiffening."""
+    mask = pre_contact(trace) if mask is None else mask
+    f, e = trace.motor[:, :, joint[0]], trace.motor[:, :, joint[1]]
+    both = (f > 0.5) & (e > 0.5) if high else (f < 0.5) & (e < 0.5)
+    return _pooled(both.astype(float), mask)
 
 
 def activation_deviations(trace: Trace, joint: tuple[int, int],
@@ -138,6 +175,15 @@ BEHAVIOUR_COLUMNS = [
     # Figure 9 (top 20, pre-contact; *_allcyc: every cycle of the trial)
     "top_hand_speed_fix", "top_eye_speed_fix", "top_hand_speed_nofix", "top_eye_speed_nofix",
     "top_hand_speed_fix_allcyc", "top_eye_speed_fix_allcyc",
+    # Figure 3's latency over successful trials only (metrics.csv's counts a miss as the trial
+    # length)
+    "top_latency_success", "all_latency_success",
+    # joint mobility (all econets, pre-contact): which joints move, and how far in a trial
+    "all_body_moving", "all_shoulder_moving", "all_elbow_moving",
+    "all_body_excursion", "all_shoulder_excursion", "all_elbow_excursion",
+    # coactivation split (top 20, pre-contact): both muscles high vs both low
+    "top_shoulder_cocontraction", "top_shoulder_corelaxation",
+    "top_elbow_cocontraction", "top_elbow_corelaxation",
 ]
 
 
@@ -177,7 +223,22 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
         "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre, eye),
         "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every, hand),
         "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every, eye),
+        "top_latency_success": latency_of_successes(trace, envs),
+        "all_latency_success": latency_of_successes(trace),
+        **{f"all_{joint}_moving": moving_share(trace, joint, pre) for joint in JOINTS},
+        **{f"all_{joint}_excursion": excursion(trace, joint, pre) for joint in JOINTS},
+        **{f"top_{name}_{kind}": both_share(trace, pair, kind == "cocontraction", top_pre)
+           for name, pair in (("shoulder", SHOULDER), ("elbow", ELBOW))
+           for kind in ("cocontraction", "corelaxation")},
     }
+
+
+def latency_of_successes(trace: Trace, envs: np.ndarray | None = None) -> float:
+    """Mean cycle of first contact (1..C, as metrics.csv counts it) over the trials, of the
+    given environments, that make one; NaN if none does."""
+    touch = trace.touch[1:] if envs is None else trace.touch[1:, envs]
+    hit = touch.any(axis=0)
+    return float((touch.argmax(axis=0)[hit] + 1).mean()) if hit.any() else float("nan")
 
 
 # -- reaches ----------------------------------------------------------------------------------
@@ -236,6 +297,25 @@ class ReachSummary:
     start_radius: float          # mean hand distance from the shoulder at the reach start
     trial_start_spread_body: float  # the same spread at trial start (for reference)
     n_reaches: int
+    reach_elbow_spread: float = float("nan")   # posture convergence: see elbow_spread
+    trial_elbow_spread: float = float("nan")   # the same at trial start (for reference)
+
+
+REACH_CYCLES = 10         # the cycles before first contact over which posture spread is taken
+
+
+def elbow_spread(trace: Trace, cycles: int = REACH_CYCLES) -> tuple[float, float]:
+    """Posture convergence: the across-trial s.d. of the elbow angle over the last ``cycles``
+    states before first contact (aligned on it, trials reached later than that only), averaged
+    over those states; and the s.d. of the elbow angle at trial start over the same trials.
+    Stereotyped reaches bring the elbow to the same angles whatever it started from."""
+    contact = first_contact(trace)
+    envs = np.flatnonzero(contact >= cycles)
+    if len(envs) < 2:
+        return float("nan"), float("nan")
+    rows = contact[envs][None, :] - np.arange(cycles)[:, None]      # (cycles, trials)
+    angles = trace.elbow[rows, envs[None, :]]
+    return float(angles.std(axis=1).mean()), float(trace.elbow[0, envs].std())
 
 
 def summarize_reaches(trace: Trace) -> ReachSummary:
@@ -273,4 +353,5 @@ def summarize_reaches(trace: Trace) -> ReachSummary:
         else float("nan"),
         trial_start_spread_body=spread(trial_start),
         n_reaches=int(len(envs)),
+        **dict(zip(("reach_elbow_spread", "trial_elbow_spread"), elbow_spread(trace))),
     )

@@ -160,6 +160,11 @@ def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
                        on_open=repair)
 
 
+def read_behaviour(path: Path) -> list[dict]:
+    """A behaviour.csv's complete rows (none if it is missing or from another version)."""
+    return _read_rows(path, BEHAVIOUR_COLUMNS)
+
+
 def _read_rows(path: Path, columns: list[str]) -> list[dict]:
     if not path.exists():
         return []

@@ -1,0 +1,59 @@
+"""``econet sweep run SPEC --out DIR`` runs a sweep over the paper's open choices on Ray (local
+cores by default, or a cluster with --address); ``econet sweep report DIR`` writes its tidy table,
+paired comparisons, figures and summary. The format: docs/sweeps.md."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..runs import ensure_writable
+from ..science.sweep import load_spec
+from .options import Parser, positive
+
+
+def add_parser(commands) -> None:
+    sweep = commands.add_parser(
+        "sweep", help="run sweeps over the paper's open choices (Ray), and report them",
+        description=__doc__)
+    verbs = sweep.add_subparsers(dest="verb", required=True, parser_class=Parser)
+    run = verbs.add_parser(
+        "run", help="run (or finish) every run of a sweep specification",
+        description="Every (cell, condition, seed) run of SPEC becomes a Ray task; the run "
+                    "folders land under --out. Running the same command again skips finished "
+                    "runs and redoes unfinished ones, with byte-identical results.")
+    run.add_argument("spec", metavar="SPEC", help="sweep specification (TOML)")
+    run.add_argument("--out", required=True, help="results folder")
+    run.add_argument("--address", default=None,
+                     help="attach to a running Ray cluster (HOST:PORT of `ray start --head`) "
+                          "instead of starting Ray on this machine")
+    run.add_argument("--workers", type=positive, default=None,
+                     help="local runs only: Ray workers (default: one per CPU)")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(handler=_run)
+    report = verbs.add_parser(
+        "report", help="tidy table, paired comparisons, figures and summary of a sweep folder",
+        description="Writes DIR/outcomes.csv (one row per run), DIR/comparisons.csv (the "
+                    "spec's paired comparisons: mean difference, 95% bootstrap CI, effect size, "
+                    "sign count), DIR/figures/ and DIR/summary.md.")
+    report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
+    report.set_defaults(handler=_report)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from ..science.sweep_runner import run_sweep     # ray: late
+    spec = load_spec(Path(args.spec))
+    ensure_writable(Path(args.out))
+    done, total = run_sweep(spec, Path(args.out), address=args.address, workers=args.workers,
+                            progress=not args.quiet)
+    print(f"sweep '{spec.name}': {done} run(s) done now, {total} in all, in {args.out} "
+          f"(next: econet sweep report {args.out})")
+    return 0
+
+
+def _report(args: argparse.Namespace) -> int:
+    from ..science.sweep_report import build_sweep_report
+    summary, notes = build_sweep_report(Path(args.folder))
+    for note in notes:
+        print(f"note: {note}")
+    print(f"summary: {summary}")
+    return 0

@@ -1,0 +1,105 @@
+"""Per-run series of a study (study.ConditionData) as the claims, figures and report read them:
+generation windows, window means, smoothing and the "mean ± s.d. over runs" format. ROS-free."""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .study import ConditionData
+
+
+def nanmean(values, axis=None):
+    """np.nanmean that is silent about empty or all-NaN data (NaN there: nothing measured)."""
+    a = np.asarray(values, dtype=float)
+    if a.size == 0 or np.all(np.isnan(a)):
+        return np.nan if axis is None else np.full(np.delete(a.shape, axis), np.nan)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanmean(a, axis=axis)
+
+
+def nanstd(values, axis=None):
+    """np.nanstd that is silent about all-NaN slices."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanstd(np.asarray(values, dtype=float), axis=axis)
+
+
+def share_below(lower: np.ndarray, upper: np.ndarray) -> float:
+    """Share of generations (where both curves exist) in which ``lower`` < ``upper``."""
+    ok = np.isfinite(lower) & np.isfinite(upper)
+    return float(np.mean(lower[ok] < upper[ok])) if ok.any() else float("nan")
+
+
+def smooth(curve: np.ndarray, k: int) -> np.ndarray:
+    """Trailing running mean over k generations (the first k - 1 average what exists)."""
+    if k <= 1:
+        return curve
+    out = np.array(curve, dtype=float)
+    for i in range(len(curve)):
+        out[i] = nanmean(curve[max(0, i - k + 1):i + 1])
+    return out
+
+
+@dataclass
+class Windows:
+    """Generation windows scaled to the study length G (paper: G = 200)."""
+
+    G: int
+
+    @property
+    def start(self) -> slice:        # first 2.5% (5 generations at G = 200)
+        return slice(0, max(1, self.G // 40))
+
+    @property
+    def early(self) -> slice:        # first 10% (paper: "the first 20 generations")
+        return slice(0, max(1, self.G // 10))
+
+    @property
+    def first_quarter(self) -> slice:   # first 25% (paper: "the first 50 generations")
+        return slice(0, max(1, self.G // 4))
+
+    @property
+    def dip(self) -> slice:          # 5%-25% (gens 10-49 at G = 200): after the start, in
+        return slice(max(1, self.G // 20), max(2, self.G // 4))   # the paper's early slowdown
+
+    @property
+    def final(self) -> slice:        # last 10%
+        return slice(self.G - max(1, self.G // 10), self.G)
+
+    def label(self, s: slice) -> str:
+        return f"gens {s.start}-{s.stop - 1}"
+
+
+def per_run(data: ConditionData, column: str) -> np.ndarray:
+    """(runs, G) series of a metrics.csv or behaviour.csv column; ValueError without runs, so
+    a claim that needs the condition says it cannot be measured."""
+    if not data.n_runs:
+        raise ValueError(f"no {data.name} runs")
+    return data.metrics[column] if column in data.metrics else data.behaviour[column]
+
+
+def window_means(data: ConditionData, column: str, window: slice) -> np.ndarray:
+    """Per-run mean over a generation window (NaN for runs that lack it)."""
+    return nanmean(per_run(data, column)[:, window], axis=1)
+
+
+def mean_curve(data: ConditionData, column: str) -> np.ndarray:
+    """The mean over runs, per generation."""
+    return nanmean(per_run(data, column), axis=0)
+
+
+def fmt(x: float, digits: int = 2) -> str:
+    """A number for the report; "n/a" where nothing was measured."""
+    return "n/a" if x is None or not np.isfinite(x) else f"{x:.{digits}f}"
+
+
+def mean_sd(values, digits: int = 2) -> str:
+    """'mean ± s.d.' over the runs that have a value."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return "n/a"
+    return f"{v.mean():.{digits}f} ± {v.std():.{digits}f}"
