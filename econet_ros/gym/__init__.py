@@ -12,10 +12,18 @@ or, without the import, ``gymnasium.make("econet_ros.gym:econet_ros/Reach-v0")``
 1.x no longer reads plug-in entry points, so registering needs this import; importing
 ``econet_ros`` alone does not load Gymnasium.)
 """
-from gymnasium.envs.registration import register, registry
+import os as _os
 
-from .reach import ReachEnv
-from .vector import ReachVectorEnv
+# A vector step is one short parallel kernel (about 0.3 ms for 2000 environments); OpenMP
+# workers that spin-wait after it (libgomp's default) made steps up to ten times slower on a
+# busy machine, sleeping workers cost only a wake-up (docs/gym.md#speed). As in
+# econet_ros.nodes; it must be set before numba starts OpenMP.
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+from gymnasium.envs.registration import register, registry  # noqa: E402
+
+from .reach import ReachEnv  # noqa: E402
+from .vector import ReachVectorEnv  # noqa: E402
 
 ENV_ID = "econet_ros/Reach-v0"
 
