@@ -31,6 +31,7 @@ setup(
             'controller_node = econet_ros.nodes.controller_node:main',
             'supervisor_node = econet_ros.nodes.supervisor_node:main',
             'recorder_node = econet_ros.nodes.recorder_node:main',
+            'viewer_node = econet_ros.nodes.viewer_node:main',
         ],
         # Controllers by name (econet_ros.plugins.BUILTIN); other packages add their own here.
         'econet_ros.controllers': [

@@ -10,19 +10,26 @@ A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .n
                       population tested in generation g, the last row = the final offspring
     fitness.npy       (generations, population) fitness of every econet
     best_genomes.npy  (generations, n_weights) codes of each generation's fittest econet
+    .lock             held by the process writing the folder (a second writer is refused)
 
 metrics.csv is written last for each generation and is the record of what has finished: a run
-interrupted at any point resumes from its last complete row and produces the same files as an
-uninterrupted run. See docs/results-format.md for the meaning of every column.
+interrupted at any point (a kill, a full disk) resumes from its last complete row and produces
+the same files as an uninterrupted run. The arrays are made at full size when the run starts,
+with their space reserved, and filled row by row in place; JSON files are replaced whole
+(write_atomically). Every file is checked when read: a damaged one is a one-line error naming
+it. See docs/results-format.md for the meaning of every column.
 """
 from __future__ import annotations
 
 import csv
+import errno
+import fcntl
 import json
 import os
 import tempfile
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 from tqdm import tqdm
@@ -37,6 +44,9 @@ FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
 MEASURES = ("fitness", "successes", "latency", "separations")
 METRIC_COLUMNS = ["generation", "best_fitness"] + [f"{g}_{m}" for g in GROUPS for m in MEASURES]
+LOCK_FILE = ".lock"
+RESUME = ("the finished generations are kept: run the same command again to resume once this "
+          "is fixed")
 
 
 def generation_metrics(result: GenerationResult) -> dict[str, float]:
@@ -58,110 +68,158 @@ def generation_metrics(result: GenerationResult) -> dict[str, float]:
 
 
 class RunStore:
-    """Writes one run's folder generation by generation, and reopens it to resume."""
+    """Writes one run's folder generation by generation, and reopens it to resume. Used as a
+    context manager: it holds the folder's lock (a second writer is refused) and its files."""
 
     def __init__(self, path: Path, config: Config, seed: int, run: int, n_weights: int):
         self.path = Path(path)
-        self.config = config
         self.header = {"format": FORMAT, "config": config.to_dict(), "seed": seed, "run": run,
                        "n_weights": n_weights}
-        e = config.evolution
-        self.generations = e.generations
-        self._shapes = {
-            "genomes": (e.generations + 1, e.population, n_weights),
-            "fitness": (e.generations, e.population),
-            "best_genomes": (e.generations, n_weights),
-        }
-        self._dtypes = {"genomes": genome_codes.code_dtype(e.bits_per_weight),
-                        "fitness": np.int32,
-                        "best_genomes": genome_codes.code_dtype(e.bits_per_weight)}
-        self._arrays: dict[str, np.ndarray] = {}
+        self.generations = config.evolution.generations
+        self.layout = array_layout(config, n_weights)
+        self._rows: dict[str, RowWriter] = {}
+        self._held = ExitStack()
+
+    def __enter__(self) -> "RunStore":
+        self._held.enter_context(locked(self.path))
+        return self
+
+    def __exit__(self, *failure) -> None:
+        self._held.close()
 
     # -- opening ------------------------------------------------------------------------------
     def open(self, initial_genomes) -> tuple[int, np.ndarray]:
         """Create the folder, or reopen a matching one; returns (next generation, its genomes).
 
         initial_genomes: a callable giving generation 0's population for a new run."""
-        meta = self.path / "run.json"
-        if meta.exists():
-            stored = json.loads(meta.read_text(encoding="utf-8"))
-            if stored != self.header:
-                raise ResultsError(f"{self.path} holds a run with different settings; "
-                                   "choose another output folder or pass --overwrite")
-            for name, shape in self._shapes.items():
-                self._arrays[name] = np.load(self.path / f"{name}.npy", mmap_mode="r+")
-                if self._arrays[name].shape != shape:
-                    raise ResultsError(f"{self.path / name}.npy has shape "
-                                       f"{self._arrays[name].shape}, expected {shape}")
-            done = self._finished_rows()
-            return done, np.array(self._arrays["genomes"][done])
-        self.path.mkdir(parents=True, exist_ok=True)
-        for name, shape in self._shapes.items():
-            self._arrays[name] = np.lib.format.open_memmap(
-                self.path / f"{name}.npy", mode="w+", dtype=self._dtypes[name], shape=shape)
-        genomes = initial_genomes()
-        self._arrays["genomes"][0] = genomes
-        self._flush()
-        with open(self.path / "metrics.csv", "w", newline="", encoding="utf-8") as handle:
-            csv.writer(handle).writerow(METRIC_COLUMNS)
-        # run.json last: a folder without it is an unstarted run and is simply recreated.
-        meta.write_text(json.dumps(self.header, indent=2, sort_keys=True), encoding="utf-8")
-        return 0, genomes
+        try:
+            done = self._recorded_generations()
+            arrays = None if done is None else open_arrays(self.path, self.layout)
+        except ResultsError as error:
+            raise ResultsError(f"{error}; choose another output folder or pass --overwrite to "
+                               "start the run again") from None
+        if arrays is None:
+            genomes = initial_genomes()
+            self._create(genomes)
+            return 0, genomes
+        with writing(self.path, then=RESUME):
+            self._hold_writers(arrays)
+        return done, np.array(arrays["genomes"][done])
 
     def fitness_rows(self, generations: int) -> np.ndarray:
         """The stored fitness of the first ``generations`` generations."""
-        return np.array(self._arrays["fitness"][:generations])
+        return np.array(np.load(self.path / "fitness.npy", mmap_mode="r")[:generations])
 
-    def _finished_rows(self) -> int:
-        """Complete rows of metrics.csv; a torn last line (from a crash) is cut off."""
-        path = self.path / "metrics.csv"
-        text = path.read_text(encoding="utf-8")
-        if not text.endswith("\n"):
-            text = text[:text.rfind("\n") + 1]
-            path.write_text(text, encoding="utf-8")
-        return max(len(text.splitlines()) - 1, 0)
+    def _recorded_generations(self) -> int | None:
+        """Finished generations (a torn last metrics row is cut off), or None while the folder
+        holds no run yet: no run.json, or a damaged one before any generation finished."""
+        meta = self.path / "run.json"
+        if not meta.exists():
+            return None
+        try:
+            stored, _ = read_header(meta)
+        except ResultsError:
+            if finished_generations(self.path) == 0:
+                return None
+            raise
+        if stored != self.header:
+            raise ResultsError(f"{self.path} holds a run with different settings")
+        done = len(finished_rows(self.path / "metrics.csv", self.generations))
+        cut_table(self.path / "metrics.csv", done)
+        return done
+
+    def _create(self, genomes: np.ndarray) -> None:
+        """A new run: arrays with their whole space reserved (a disk too small says so now,
+        not hours later), generation 0's genomes, the metrics header, and run.json last: a
+        folder without it is an unstarted run and is simply made again."""
+        (self.path / "run.json").unlink(missing_ok=True)    # damaged by a crash right here
+        size = sum(dtype.itemsize * np.prod(shape) for dtype, shape in self.layout.values())
+        with writing(self.path, then=f"the run's arrays need {size / 1e6:.1f} MB"):
+            try:
+                self._hold_writers({name: np.lib.format.open_memmap(
+                    self.path / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)
+                    for name, (dtype, shape) in self.layout.items()})
+                self._rows["genomes"].write(0, genomes)
+                self._sync()
+            except OSError:
+                for name in self.layout:        # leave no half-made arrays behind
+                    (self.path / f"{name}.npy").unlink(missing_ok=True)
+                raise
+        start_table(self.path / "metrics.csv", METRIC_COLUMNS)
+        write_atomically(self.path / "run.json", json.dumps(self.header, indent=2,
+                                                            sort_keys=True))
+
+    def _hold_writers(self, arrays: dict[str, np.ndarray]) -> None:
+        for name, array in arrays.items():
+            self._rows[name] = self._held.enter_context(RowWriter(self.path / f"{name}.npy",
+                                                                  array))
 
     # -- writing ------------------------------------------------------------------------------
     def write(self, result: GenerationResult, offspring: np.ndarray) -> None:
-        """Record a tested generation and the offspring that will be tested next."""
+        """Record a tested generation and the offspring that will be tested next: the arrays'
+        rows first, then its metrics row, the record that the generation is complete."""
         g = result.generation
-        self._arrays["genomes"][g + 1] = offspring
-        self._arrays["fitness"][g] = result.fitness
-        self._arrays["best_genomes"][g] = result.genomes[result.parents[0]]
-        self._flush()
         row = generation_metrics(result)
-        with open(self.path / "metrics.csv", "a", newline="", encoding="utf-8") as handle:
-            csv.writer(handle).writerow([row[c] for c in METRIC_COLUMNS])
-            handle.flush()
-            os.fsync(handle.fileno())
+        with writing(self.path, then=RESUME):
+            self._rows["genomes"].write(g + 1, offspring)
+            self._rows["fitness"].write(g, result.fitness)
+            self._rows["best_genomes"].write(g, result.genomes[result.parents[0]])
+            self._sync()
+        append_row(self.path / "metrics.csv", [row[c] for c in METRIC_COLUMNS])
 
-    def _flush(self) -> None:
-        for array in self._arrays.values():
-            array.flush()
+    def _sync(self) -> None:
+        for rows in self._rows.values():
+            rows.sync()
+
+
+class RowWriter:
+    """Writes whole rows of one .npy file in place, with pwrite rather than through a memory
+    map: storing into a map on a full disk kills the process (SIGBUS). The file's whole space
+    is reserved on opening, so a full disk shows up then, as an OSError."""
+
+    def __init__(self, path: Path, array: np.ndarray):
+        self.dtype = array.dtype
+        self.offset = array.offset
+        self.row_bytes = array[0].nbytes
+        self.fd = os.open(path, os.O_RDWR)
+        try:
+            os.posix_fallocate(self.fd, 0, array.offset + array.nbytes)
+        except OSError:
+            os.close(self.fd)
+            raise
+
+    def __enter__(self) -> "RowWriter":
+        return self
+
+    def __exit__(self, *failure) -> None:
+        os.close(self.fd)
+
+    def write(self, row: int, values: np.ndarray) -> None:
+        data = np.ascontiguousarray(values, dtype=self.dtype).tobytes()
+        if os.pwrite(self.fd, data, self.offset + row * self.row_bytes) != len(data):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    def sync(self) -> None:
+        os.fdatasync(self.fd)
 
 
 class RunData:
-    """A finished (or partial) run folder, read back for analysis."""
+    """A finished (or partial) run folder, read back for analysis; ResultsError, naming the
+    file and what is wrong with it, for a damaged one."""
 
     def __init__(self, path: Path):
         self.path = Path(path)
         meta = self.path / "run.json"
         if not meta.exists():
             raise ResultsError(f"{self.path} is not a run folder (no run.json)")
-        self.header = json.loads(meta.read_text(encoding="utf-8"))
-        if self.header.get("format") != FORMAT:
-            raise ResultsError(f"{meta} has format {self.header.get('format')!r}, "
-                               f"this version reads {FORMAT!r}")
-        try:
-            self.config = Config.from_dict(self.header["config"])
-        except (ConfigError, KeyError) as error:
-            raise ResultsError(f"{meta} holds an unreadable config: {error}") from None
-        self.seed = int(self.header["seed"])
-        self.run = int(self.header["run"])
-        text = (self.path / "metrics.csv").read_text(encoding="utf-8")
-        rows = list(csv.DictReader(text[:text.rfind("\n") + 1].splitlines()))  # whole rows
-        self.metrics = {c: np.array([float(r[c]) for r in rows]) for c in METRIC_COLUMNS}
+        self.header, self.config = read_header(meta)
+        self.seed = self.header["seed"]
+        self.run = self.header["run"]
+        rows = finished_rows(self.path / "metrics.csv", self.config.evolution.generations)
+        self.metrics = {c: rows[:, i] for i, c in enumerate(METRIC_COLUMNS)}
         self.generations_done = len(rows)
+        self._arrays = open_arrays(self.path, array_layout(self.config,
+                                                           self.header["n_weights"]))
 
     @property
     def complete(self) -> bool:
@@ -171,14 +229,91 @@ class RunData:
         """The population tested in a generation (generation == generations: final offspring)."""
         if not 0 <= generation <= self.generations_done:
             raise ResultsError(f"generation {generation} not in {self.path} "
-                             f"(0-{self.generations_done} available)")
-        return np.array(np.load(self.path / "genomes.npy", mmap_mode="r")[generation])
+                               f"(0-{self.generations_done} available)")
+        return np.array(self._arrays["genomes"][generation])
 
     def fitness(self) -> np.ndarray:
-        return np.load(self.path / "fitness.npy")[:self.generations_done]
+        return np.array(self._arrays["fitness"][:self.generations_done])
 
     def best_genomes(self) -> np.ndarray:
-        return np.load(self.path / "best_genomes.npy")[:self.generations_done]
+        return np.array(self._arrays["best_genomes"][:self.generations_done])
+
+
+# -- reading the files of a run ---------------------------------------------------------------
+def read_header(meta: Path) -> tuple[dict, Config]:
+    """run.json's contents and its Config, or ResultsError saying what is wrong with it."""
+    header = read_json_object(meta)
+    if header.get("format") != FORMAT:
+        raise ResultsError(f"{meta} has format {header.get('format')!r}, "
+                           f"this version reads {FORMAT!r}")
+    for key, low in (("seed", 0), ("run", 1), ("n_weights", 1)):
+        stored_whole_number(header, key, low, meta)
+    try:
+        config = Config.from_dict(header.get("config"))
+    except ConfigError as error:
+        raise ResultsError(f"{meta} holds an unreadable config: {error}") from None
+    return header, config
+
+
+def read_json_object(path: Path) -> dict:
+    """A JSON object stored in a result folder, or ResultsError saying what is wrong with it."""
+    try:
+        data = json.loads(Path(path).read_bytes())
+    except OSError as error:
+        raise ResultsError(f"cannot read {path}: {error.strerror or error}") from None
+    except ValueError as error:
+        raise ResultsError(f"{path} is damaged (empty, torn or not JSON: {error})") from None
+    if not isinstance(data, dict):
+        raise ResultsError(f"{path} is damaged (not a JSON object)")
+    return data
+
+
+def stored_whole_number(data: dict, key: str, low: int, source: Path) -> int:
+    """data[key] when it is a whole number of at least ``low``, else ResultsError."""
+    value = data.get(key)
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise ResultsError(f"{source} is damaged: {key} must be a whole number of at least "
+                           f"{low}, got {value!r}")
+    return value
+
+
+def array_layout(config: Config, n_weights: int) -> dict[str, tuple[np.dtype, tuple]]:
+    """The .npy files of a run: name -> (dtype, shape)."""
+    e = config.evolution
+    codes = np.dtype(genome_codes.code_dtype(e.bits_per_weight))
+    return {"genomes": (codes, (e.generations + 1, e.population, n_weights)),
+            "fitness": (np.dtype(np.int32), (e.generations, e.population)),
+            "best_genomes": (codes, (e.generations, n_weights))}
+
+
+def open_arrays(folder: Path, layout: dict) -> dict[str, np.ndarray]:
+    """A run's .npy files mapped read-only, or ResultsError naming one that is missing,
+    unreadable, truncated, not an array or of another shape."""
+    arrays = {}
+    for name, (dtype, shape) in layout.items():
+        path = Path(folder) / f"{name}.npy"
+        try:
+            arrays[name] = np.load(path, mmap_mode="r")
+        except FileNotFoundError:
+            raise ResultsError(f"{path} is missing") from None
+        except OSError as error:
+            raise ResultsError(f"cannot read {path}: {error.strerror or error}") from None
+        except (ValueError, EOFError):
+            raise ResultsError(f"{path} is truncated or not a NumPy array file") from None
+        found = arrays[name]
+        if not isinstance(found, np.memmap) or (found.dtype, found.shape) != (dtype, shape):
+            raise ResultsError(f"{path} does not hold the {dtype} array of shape {shape} "
+                               "this run needs")
+    return arrays
+
+
+def finished_rows(path: Path, generations: int) -> np.ndarray:
+    """metrics.csv's finished rows, at most one per generation of the run."""
+    rows = table_rows(path, METRIC_COLUMNS)
+    if len(rows) > generations:
+        raise ResultsError(f"{path} has {len(rows)} rows, more than the run's {generations} "
+                           "generations")
+    return rows
 
 
 # -- the one generation loop ------------------------------------------------------------------
@@ -197,18 +332,18 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     evaluator = evaluator or Evaluator(config)
     n_weights = evaluator.n_weights
     optimizer = make_optimizer(config, n_weights, seed, run)
-    store = RunStore(folder, config, seed, run, n_weights)
-    done, genomes = store.open(optimizer.first_generation)
-    if done:
-        optimizer.catch_up(store.fitness_rows(done), genomes)
-    if on_open:
-        on_open(done)
-    for generation in range(done, config.evolution.generations):
-        result = evaluator.test_generation(genomes, seed, run, generation, record)
-        genomes = optimizer.breed(result)
-        store.write(result, genomes)
-        if on_generation:
-            on_generation(result, genomes)
+    with RunStore(folder, config, seed, run, n_weights) as store:
+        done, genomes = store.open(optimizer.first_generation)
+        if done:
+            optimizer.catch_up(store.fitness_rows(done), genomes)
+        if on_open:
+            on_open(done)
+        for generation in range(done, config.evolution.generations):
+            result = evaluator.test_generation(genomes, seed, run, generation, record)
+            genomes = optimizer.breed(result)
+            store.write(result, genomes)
+            if on_generation:
+                on_generation(result, genomes)
     return config.evolution.generations
 
 
@@ -270,12 +405,128 @@ def replay(run_dir: Path, generation: int, record: bool = True,
                                      record)
 
 
+# -- writing safely ----------------------------------------------------------------------------
 def ensure_writable(folder: Path) -> None:
     """Fail now, not after an hour of work, if results cannot be written to folder."""
+    folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=folder):
             pass
+    except FileExistsError:
+        raise UsageError(f"cannot write to output folder {folder}: a file has that name") \
+            from None
     except OSError as error:
         raise UsageError(f"cannot write to output folder {folder}: "
                          f"{error.strerror or error}") from None
+
+
+@contextmanager
+def locked(folder: Path) -> Iterator[None]:
+    """Hold ``folder``'s lock file while writing into it, so a second writer is refused at once
+    in one line; the operating system drops the lock when this process ends, however it ends."""
+    ensure_writable(folder)
+    path = Path(folder) / LOCK_FILE
+    with writing(path):
+        handle = open(path, "a+", encoding="utf-8")
+    with handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip()
+            raise UsageError(f"{folder} is being written by another econet process"
+                             f"{f' (pid {holder})' if holder.isdigit() else ''}; wait for it "
+                             "to finish or choose another output folder") from None
+        with writing(path):
+            handle.truncate(0)
+            handle.write(f"{os.getpid()}\n")
+            handle.flush()
+        yield
+
+
+@contextmanager
+def writing(path: Path, then: str = "") -> Iterator[None]:
+    """Turn an OSError while writing ``path`` into one line for the user (UsageError) that says
+    so when the disk is full; ``then`` adds what the user can do about it."""
+    try:
+        yield
+    except OSError as error:
+        if error.errno in (errno.ENOSPC, errno.EDQUOT):
+            message = f"disk full: cannot write {path}"
+        else:
+            message = f"cannot write {path}: {error.strerror or error}"
+        raise UsageError(f"{message}; {then}" if then else message) from None
+
+
+def write_atomically(path: Path, text: str) -> None:
+    """Replace ``path`` by ``text`` all at once (a temporary file, synced, renamed over it): a
+    kill or a full disk leaves the old file or the new one, never a torn one."""
+    path = Path(path)
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with writing(path):
+        try:
+            with open(temporary, "w", encoding="utf-8", newline="") as handle:
+                handle.write(text)
+                handle.flush()
+                os.fsync(handle.fileno())
+            os.replace(temporary, path)
+        finally:
+            temporary.unlink(missing_ok=True)
+
+
+# -- tables written row by row (metrics.csv, behaviour.csv) -----------------------------------
+def start_table(path: Path, columns: list[str]) -> None:
+    write_atomically(path, ",".join(columns) + "\r\n")     # csv's own line ending
+
+
+def append_row(path: Path, values: list) -> None:
+    """Append one row and sync it. A row records that its generation is complete, so it is
+    written last; one torn by a crash is cut off before the next append (cut_table)."""
+    with writing(path, then=RESUME), open(path, "a", newline="", encoding="utf-8") as handle:
+        csv.writer(handle).writerow(values)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def table_rows(path: Path, columns: list[str]) -> np.ndarray:
+    """A table's complete rows as numbers, shaped (rows, columns); a torn last line (a write cut
+    short) is not a complete row. ResultsError names the file and what is wrong with it."""
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise ResultsError(f"{path} is missing") from None
+    except OSError as error:
+        raise ResultsError(f"cannot read {path}: {error.strerror or error}") from None
+    except UnicodeDecodeError:
+        raise ResultsError(f"{path} is damaged (not text)") from None
+    lines = text[:text.rfind("\n") + 1].splitlines()
+    if not lines or lines[0].split(",") != columns:
+        raise ResultsError(f"{path} has columns from another version, or is damaged")
+    rows = np.empty((len(lines) - 1, len(columns)))
+    for number, line in enumerate(lines[1:], start=2):
+        values = [_number(field) for field in line.split(",")]
+        if len(values) != len(columns) or None in values:
+            raise ResultsError(f"{path} is damaged: line {number} is {line[:40]!r}, not "
+                               f"{len(columns)} numbers")
+        rows[number - 2] = values
+    return rows
+
+
+def _number(text: str) -> float | None:
+    try:
+        return float(text)
+    except ValueError:
+        return None
+
+
+def cut_table(path: Path, rows: int) -> None:
+    """Cut a table back to its header and first ``rows`` rows, dropping a torn last line, in
+    place: the rows kept keep their exact bytes."""
+    data = path.read_bytes()
+    end = -1
+    for _ in range(rows + 1):
+        end = data.index(b"\n", end + 1)
+    if end + 1 < len(data):
+        with writing(path, then=RESUME):
+            os.truncate(path, end + 1)

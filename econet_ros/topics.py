@@ -19,7 +19,33 @@ from .world import N_PROPRIO, Observation, TrialSetup
 class Topic(NamedTuple):
     name: str          # relative topic name
     type: str          # ROS interface type, e.g. econet_msgs/msg/Retina
-    qos: str           # lockstep | latched | display | progress (nodes/graph.py: QOS)
+    qos: str           # a kind of QOS_KINDS
+
+
+class Qos(NamedTuple):
+    """A QoS profile in rosbag2's words (metadata.yaml's offered_qos_profiles)."""
+
+    history: str       # keep_all | keep_last
+    depth: int
+    reliability: str   # reliable | best_effort
+    durability: str    # volatile | transient_local
+
+
+QOS_KINDS = {
+    # Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher
+    # keeps each message until every reader (controller, supervisor, a recorder) has it.
+    "lockstep": Qos("keep_all", 0, "reliable", "volatile"),
+    # Trial starts: a recorder that joins mid-trial still learns how the current trial started;
+    # the depth covers resets in quick succession, so that none is replaced before a recorder
+    # has it (recorders keep only the starts of trials they hear).
+    "latched": Qos("keep_last", 100, "reliable", "transient_local"),
+    # Display topics: only the newest picture matters.
+    "display": Qos("keep_last", 5, "reliable", "volatile"),
+    # Progress: late joiners get the latest generations too.
+    "progress": Qos("keep_last", 10, "reliable", "transient_local"),
+    # Static transforms, as tf2's static broadcaster offers them.
+    "static": Qos("keep_last", 1, "reliable", "transient_local"),
+}
 
 
 # In the order a bag adds its connections.
@@ -33,6 +59,10 @@ TOPICS: dict[str, Topic] = {t.name: t for t in (
     Topic("markers", "visualization_msgs/msg/MarkerArray", "display"),
     Topic("progress", "econet_msgs/msg/EvolutionProgress", "progress"),
 )}
+# Where the econet frame sits (recording/display.py); absolute, as tf2 names it.
+TF_STATIC = Topic("/tf_static", "tf2_msgs/msg/TFMessage", "static")
+FRAME = "econet"
+
 SENSORS = ("retina", "proprioception", "touch")     # one message each per cycle, in this order
 COMMAND = "muscle_command"                          # one per cycle but the last
 LOCKSTEP = (*SENSORS, COMMAND)

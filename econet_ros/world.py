@@ -247,9 +247,11 @@ class World:
         self.cycle += 1
         return self.observe()
 
-    def arm_points(self) -> np.ndarray:
-        """(n, 4, 2): shoulder, elbow, hand base and hand tip positions."""
-        return _arm_points_batch(self.body, self.shoulder, self.elbow, self.geometry)
+    def arm_points(self, envs: slice = slice(None)) -> np.ndarray:
+        """(n, 4, 2): shoulder, elbow, hand base and hand tip positions of the environments
+        `envs` (all by default)."""
+        return _arm_points_batch(self.body[envs], self.shoulder[envs], self.elbow[envs],
+                                 self.geometry)
 
     def hand_object_distance(self) -> np.ndarray:
         """(n,): gap between the hand segment and the object's edge (0 when touching)."""

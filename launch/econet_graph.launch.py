@@ -4,7 +4,7 @@
 
 (world_node, controller_node and supervisor_node as three processes; the supervisor evolves a
 population through the graph and writes its result folder to `out`.) Its arguments are the
-supervisor's parameters, generated from the same declarations (econet_ros.config's evolution
+supervisor's parameters, generated from its PARAMETERS table (econet_ros.config's evolution
 settings and the supervisor's run parameters), so they cannot drift. The launch package is not
 installable here; scripts/graph-demo does the same from a checkout.
 """
@@ -13,15 +13,9 @@ from launch.actions import DeclareLaunchArgument
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
-from econet_ros.config import SETTINGS
-from econet_ros.nodes.supervisor_node import RUN_PARAMETERS
+from econet_ros.nodes.supervisor_node import PARAMETERS
 
-ARGS = {
-    "config": ("", "JSON config file shared by all three nodes"),
-    **{item.name: (str(item.default), item.describe()) for item in SETTINGS
-       if item.section == "evolution"},
-    **{name: (str(default), text) for name, (default, text) in RUN_PARAMETERS.items()},
-}
+ARGS = {param.name: (str(param.default), param.help) for param in PARAMETERS}
 
 
 def generate_launch_description():

@@ -5,8 +5,9 @@ paper-size run (100 econets x 20 trials x 100 cycles x 200 generations = 4e7 eco
     . scripts/env.sh && python scripts/bench_core.py [--generations N] [--condition normal] [--full]
     . scripts/env.sh && python scripts/bench_core.py --per-cycle   # the nodes' per-cycle API
 
-It times N paper-size generations after one warm-up generation (which compiles the kernels)
-and prints the per-kernel split of one generation, so a regression shows where it came from.
+It times N paper-size generations after one warm-up generation (which compiles the kernels),
+run as every command runs them (runs.evolve_into, result files included, into a temporary
+folder), and prints the per-kernel split of one generation, so a regression shows where it came from.
 --per-cycle instead times World.step/observe and FeedForwardNetwork.act/forward for 2000
 environments (100 networks of random weights), as the world and controller nodes call them;
 NUMBA_NUM_THREADS=1 gives their cost with one numba thread per node.
@@ -16,8 +17,10 @@ from __future__ import annotations
 import argparse
 import cProfile
 import pstats
+import tempfile
 import time
 import timeit
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -25,7 +28,8 @@ import numpy as np
 from econet_ros.config import CONDITIONS, Config
 from econet_ros.controllers import _forward_batch
 from econet_ros.plugins import make_controller
-from econet_ros.evolution import Evaluator, evolve
+from econet_ros.evolution import Evaluator
+from econet_ros.runs import evolve_into
 from econet_ros.world import World, _sense_batch, sample_setups
 
 
@@ -47,10 +51,10 @@ def main() -> None:
                                  "evolution.generations": args.generations})
     e = config.evolution
     evaluator = Evaluator(config)
-    evolve(config.replace(**{"evolution.generations": 1}), 99, 1, evaluator)  # compile
+    evolve(config.replace(**{"evolution.generations": 1}), 99, evaluator)  # compile
 
     start = time.perf_counter()
-    evolve(config, 1, 1, evaluator)
+    evolve(config, 1, evaluator)
     seconds = time.perf_counter() - start
     cycles = e.population * e.trials * e.cycles * args.generations
     per_generation = seconds / args.generations
@@ -64,13 +68,20 @@ def main() -> None:
     if args.full:
         full = config.replace(**{"evolution.generations": 200})
         start = time.perf_counter()
-        evolve(full, 1, 1, evaluator)
+        evolve(full, 1, evaluator)
         print(f"measured full run: {time.perf_counter() - start:.1f} s")
 
     profile = cProfile.Profile()
     profile.runcall(evaluator.test_generation, evaluator_genomes(evaluator), 1, 1, 0)
     print("\nwhere one generation's time goes:")
     pstats.Stats(profile).sort_stats("tottime").print_stats(6)
+
+
+def evolve(config: Config, seed: int, evaluator: Evaluator) -> None:
+    """One run through the loop every command uses, result files included, into a folder
+    that is thrown away."""
+    with tempfile.TemporaryDirectory(prefix="econet-bench-") as folder:
+        evolve_into(Path(folder) / "run-01", config, seed, 1, evaluator)
 
 
 def per_cycle(config: Config, n_envs: int = 2000, n_networks: int = 100) -> None:

@@ -18,15 +18,18 @@ class Processes:
         self.log_dir = Path(log_dir)
         self.procs: list[tuple[subprocess.Popen, Path]] = []
 
-    def start(self, node: str, namespace: str, *params: str, name: str | None = None):
-        args = [sys.executable, "-m", f"econet_ros.nodes.{node}_node", "--ros-args",
+    def start(self, node: str, namespace: str, *params: str, name: str | None = None,
+              module: str | None = None, env: dict | None = None):
+        """Start econet_ros' `node` (world, controller, ...), or any other `module` run with
+        python -m, in `namespace` with `params` (name:=value); returns (process, log path)."""
+        args = [sys.executable, "-m", module or f"econet_ros.nodes.{node}_node", "--ros-args",
                 "-r", f"__ns:={namespace}"]
         for param in params:
             args += ["-p", param]
         log = self.log_dir / f"{name or node}-{namespace.strip('/')}-{len(self.procs)}.log"
         handle = open(log, "w")
         proc = subprocess.Popen(args, cwd=REPO, stdout=handle, stderr=subprocess.STDOUT,
-                                stdin=subprocess.DEVNULL, start_new_session=True)
+                                stdin=subprocess.DEVNULL, start_new_session=True, env=env)
         handle.close()
         self.procs.append((proc, log))
         return proc, log

@@ -1,44 +1,11 @@
-"""The econet command line: one-line errors before any work, help, and a small real run."""
+"""The econet command line: help, small real runs, and refusing to mix settings in one folder
+(bad input of every kind: test_reliability.py)."""
 import subprocess
 import sys
 
-import pytest
 
 from econet_ros.cli import main
 from econet_ros.runs import RunData
-
-
-@pytest.mark.parametrize("arguments, fragment", [
-    (["--condition", "five-layer"], "invalid choice: 'five-layer'"),
-    (["--population", "20", "--parents", "30"], "parents must be between 1 and the population"),
-    (["--trials", "-3"], "trials must be at least 1"),
-    (["--generations", "0"], "evolution.generations must be at least 1, got 0"),
-    (["--runs", "0"], "must be a positive whole number"),
-    (["--set", "model.object_radius=-1"], "model.object_radius must be between"),
-    (["--set", "evolution.population=abc"], "evolution.population must be a whole number"),
-    (["--set", "evolution.shared_trials=no"], "evolution.shared_trials must be true or false"),
-    (["--set", "model.object_radius=1e309"], "model.object_radius must be a finite number"),
-    (["--population", "many"], "argument --population: invalid int value: 'many'"),
-    (["--start-posture", "crouched"], "invalid choice: 'crouched'"),
-    (["--set", "model.colour=3"], "unknown setting 'model.colour'"),
-    (["--config", "/nonexistent/settings.json"], "cannot read config"),
-])
-def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, arguments, fragment):
-    out = tmp_path / "results"
-    status = main(["evolve", "--out", str(out), "--quiet", *arguments])
-    err = capsys.readouterr().err
-    assert status == 2
-    assert err.count("\n") == 1 and err.startswith("econet: error:"), err
-    assert fragment in err
-    assert not out.exists() or not any(out.iterdir())
-
-
-def test_unwritable_output_folder_is_refused(tmp_path, capsys):
-    blocker = tmp_path / "a-file"
-    blocker.write_text("not a folder")
-    status = main(["evolve", "--out", str(blocker / "results"), "--quiet"])
-    err = capsys.readouterr().err
-    assert status == 2 and "cannot write to output folder" in err and err.count("\n") == 1
 
 
 def test_results_with_other_settings_are_not_overwritten_silently(tmp_path, capsys):

@@ -1,6 +1,7 @@
 """Controllers by name: the installed entry points, the hand-written reacher, a controller from a
 package outside econet_ros (tests/plugin_example) through the command line and the controller
-node, and one-line errors for names that do not resolve."""
+node, a controller node from outside econet_ros evolved by the supervisor (controller:=external),
+and one-line errors for names that do not resolve."""
 import os
 import subprocess
 import sys
@@ -177,3 +178,44 @@ def test_reacher_through_the_graph_and_bad_name_at_the_node(ros):
     local, _ = run_trials(World(n, config.model), make_controller("reacher", n, config),
                           sample_setups(np.random.default_rng(21), n, config.model), cycles)
     np.testing.assert_array_equal(graph.fitness, local.fitness)
+
+
+def test_outside_controller_node_evolved_by_the_supervisor(ros, tmp_path):
+    """A node econet_ros does not know (tests/plugin_example/econet_outside_node: rclpy and
+    econet_msgs only) evolved through the graph with controller:=external n_weights:=65 writes
+    the result folder that evolving the same arithmetic in process (example-linear) writes."""
+    rclpy, executor, procs = ros
+    ns, sizes = "/outside", ["--population", "6", "--parents", "2", "--trials", "3",
+                             "--cycles", "20", "--generations", "2", "--seed", "4"]
+    procs.start("world", ns)
+    outside, outside_log = procs.start("outside", ns, module="econet_outside_node",
+                                       env=with_plugin_env())
+    params = [f"{sizes[i][2:]}:={sizes[i + 1]}" for i in range(0, len(sizes), 2)]
+    sup, log = procs.start("supervisor", ns, *params, "controller:=external", "n_weights:=65",
+                           f"out:={tmp_path / 'graph'}")
+    assert sup.wait(180) == 0, log.read_text() + outside_log.read_text()
+    assert outside.poll() is None, outside_log.read_text()
+    local = subprocess.run([sys.executable, "-m", "econet_ros", "evolve", "--controller",
+                            "example-linear", *sizes, "--quiet", "--out", str(tmp_path / "local")],
+                           cwd=REPO, env=with_plugin_env(), capture_output=True, text=True,
+                           timeout=120)
+    assert local.returncode == 0, local.stderr
+    for name in ("run.json", "metrics.csv", "genomes.npy", "fitness.npy", "best_genomes.npy"):
+        assert (tmp_path / "graph" / "run-01" / name).read_bytes() == \
+            (tmp_path / "local" / "run-01" / name).read_bytes(), name
+    assert np.load(tmp_path / "graph" / "run-01" / "fitness.npy").max() > 0
+
+
+@pytest.mark.parametrize("params, message", [
+    (["controller:=external"], "controller:=external needs n_weights:=K"),
+    (["n_weights:=5"], "n_weights is for controller:=external; the 'normal' controller has "
+                       "its own weight count"),
+])
+def test_external_controller_needs_its_weight_count(params, message, tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "econet_ros.nodes.supervisor_node",
+                           "--ros-args", *[x for p in params for x in ("-p", p)],
+                           "-p", f"out:={tmp_path}"], cwd=REPO, capture_output=True,
+                          text=True, timeout=60)
+    assert proc.returncode == 2
+    (line,) = proc.stderr.strip().splitlines()
+    assert line.startswith(f"supervisor_node: error: {message}")

@@ -59,7 +59,9 @@ def write_spec(folder: Path, text: str = TINY, name: str = "spec.toml") -> Path:
 
 
 def folder_bytes(folder: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+    """A run folder's result files (not its lock file)."""
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())
+            if not p.name.startswith(".")}
 
 
 def in_process(spec_path: Path, tmp: Path) -> dict[tuple, dict[str, bytes]]:

@@ -1,6 +1,8 @@
 """``econet bag info|measures|render|replay BAG``: recorded trials, from the bag alone.
 
     info      topics, types and message counts, trials, custom data (like ``ros2 bag info``)
+    repair    recover a bag whose recorder was killed (no metadata.yaml, no MCAP footer) from
+              its complete chunks, as a new bag
     measures  the paper's trial measures (fitness, success, latency, separations) per
               environment, computed from the recorded touch messages
     render    a GIF animation and a PNG filmstrip of one environment's trial
@@ -28,9 +30,13 @@ def add_parser(commands) -> None:
             ("info", _info, "topics, message counts, trials and custom data"),
             ("measures", _measures, "trial measures computed from the recorded messages"),
             ("render", _render, "GIF animation and PNG filmstrip of one trial"),
-            ("replay", _replay, "check that the commands reproduce the recorded sensors")):
+            ("replay", _replay, "check that the commands reproduce the recorded sensors"),
+            ("repair", _repair, "recover a killed recording's complete chunks as a new bag")):
         verb = verbs.add_parser(name, help=text, description=text)
         verb.add_argument("bag", metavar="BAG", help="bag folder (or its .mcap file)")
+        if name == "repair":
+            verb.add_argument("--out", default=None, metavar="NEW",
+                              help="the repaired bag, a new folder (default: BAG-repaired)")
         if name in ("measures", "render"):
             verb.add_argument("--trial", type=int, default=None,
                               help="trial number as recorded (default: every trial / the "
@@ -63,6 +69,8 @@ def _info(args: argparse.Namespace) -> int:
     width = max((len(t) for t in bag.topics), default=5)
     for topic, (msgtype, count) in bag.topics.items():
         print(f"  {topic:<{width}}  {count:>7}  {msgtype}")
+    for trial, count in sorted(bag.unstarted.items()):
+        print(f"trial {trial}: {count} message(s) without its trial_start (not replayable)")
     for trial in bag.trials:
         state = "complete" if trial.complete else \
             f"incomplete: cycles 0-{max(trial.heard_cycles, 0)} of {trial.cycles}"
@@ -141,3 +149,15 @@ def _replay(args: argparse.Namespace) -> int:
         return 1
     print("replay: identical" if ok else "replay: DIFFERENT")
     return 0 if ok else 1
+
+
+def _repair(args: argparse.Namespace) -> int:
+    from ..recording.repair import repair
+
+    source = Path(args.bag)
+    out = Path(args.out) if args.out else source.with_name(source.stem + "-repaired")
+    count, found = repair(source, out)
+    print(f"repaired: {out} ({count} messages on {len(found.topics)} topics from "
+          f"{found.chunks} complete chunk(s); {found.lost_bytes} bytes after them were "
+          "incomplete and are lost)")
+    return 0

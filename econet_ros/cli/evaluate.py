@@ -11,7 +11,7 @@ from ..errors import UsageError
 from ..plugins import resolve
 from ..trials import run_trials
 from ..world import World, sample_setups
-from .options import add_config_options, config_from, positive
+from .options import add_config_options, config_from, positive, seed
 
 
 def add_parser(commands) -> None:
@@ -26,11 +26,11 @@ def add_parser(commands) -> None:
     parser.add_argument("--trials", type=positive, default=20, help="trials (default: 20)")
     parser.add_argument("--cycles", type=positive, default=None,
                         help="cycles per trial (default: the config's, 100)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the trial starts")
+    parser.add_argument("--seed", type=seed, default=1, help="seed of the trial starts")
     parser.add_argument("--weights", metavar="FILE.npy",
                         help="parameters for an evolvable controller: (n_params,) or "
                              "(k, n_params) with k dividing --trials (default: all zero)")
-    parser.add_argument("--noise-seed", type=int, default=0,
+    parser.add_argument("--noise-seed", type=seed, default=0,
                         help="seed of any randomness in the controller")
     parser.add_argument("--record", metavar="BAG",
                         help="also write the trials as a rosbag2 bag (a new folder)")

@@ -7,10 +7,10 @@ import json
 import shutil
 from pathlib import Path
 
-from ..errors import UsageError
+from ..errors import ResultsError, UsageError
 from ..evolution import Evaluator
 from ..plugins import resolve
-from ..runs import ensure_writable, run_condition, run_folder
+from ..runs import locked, read_json_object, run_condition, run_folder, write_atomically
 from .options import add_config_options, add_run_options, config_from
 
 CONTROLLER_FILE = "controller.json"   # which plug-in a run folder was evolved with
@@ -34,13 +34,13 @@ def run(args: argparse.Namespace) -> int:
     config = config_from(args)
     out = Path(args.out)
     evaluator, settings = _plugin_evaluator(args.controller, config)
-    ensure_writable(out)
-    if args.overwrite:
-        for run_dir in out.glob("run-*"):
-            shutil.rmtree(run_dir)
-    _check_controller_records(out, args.runs, settings)
-    print(run_condition(config, args.runs, args.seed, out, progress=not args.quiet,
-                        evaluator=evaluator))
+    with locked(out):
+        if args.overwrite:
+            for run_dir in out.glob("run-*"):
+                shutil.rmtree(run_dir)
+        _check_controller_records(out, args.runs, settings)
+        print(run_condition(config, args.runs, args.seed, out, progress=not args.quiet,
+                            evaluator=evaluator))
     if settings:
         print(f"  controller: {settings['controller']} ({settings['class']}), recorded in "
               f"run-NN/{CONTROLLER_FILE}")
@@ -71,7 +71,7 @@ def _check_controller_records(out: Path, runs: int, settings: dict | None) -> No
     for number in range(1, runs + 1):
         folder = run_folder(out, number)
         path = folder / CONTROLLER_FILE
-        old = json.loads(path.read_text(encoding="utf-8")) if path.exists() else None
+        old = _controller_record(path)
         if (folder / "run.json").exists() and old != settings:
             what = (old or {}).get("controller", "the condition's network")
             wanted = f"--controller {old['controller']}" if old else "no --controller"
@@ -79,4 +79,17 @@ def _check_controller_records(out: Path, runs: int, settings: dict | None) -> No
                              "--out, or --overwrite")
         if settings:
             folder.mkdir(parents=True, exist_ok=True)
-            path.write_text(json.dumps(settings, indent=2) + "\n", encoding="utf-8")
+            write_atomically(path, json.dumps(settings, indent=2) + "\n")
+
+
+def _controller_record(path: Path) -> dict | None:
+    """The plug-in a run folder records (None: the condition's network)."""
+    if not path.exists():
+        return None
+    try:
+        record = read_json_object(path)
+        if not isinstance(record.get("controller"), str):
+            raise ResultsError(f"{path} is damaged (no controller name)")
+    except ResultsError as error:
+        raise ResultsError(f"{error}; choose another --out or pass --overwrite") from None
+    return record

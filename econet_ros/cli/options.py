@@ -17,14 +17,22 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive whole number, got {text}")
-    return value
+def whole_number(low: int):
+    """An argparse type: a whole number of at least ``low``, or a one-line error."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = low - 1
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be a whole number of at least {low}, "
+                                             f"got {text}")
+        return value
+    return parse
+
+
+positive = whole_number(1)
+seed = whole_number(0)        # numpy's generators take whole numbers from 0 up
 
 
 def key_value(text: str) -> tuple[str, object]:
@@ -86,7 +94,7 @@ def add_run_options(parser: argparse.ArgumentParser, out: str) -> None:
     parser.add_argument("--out", default=out, help="output folder (default: %(default)s)")
     parser.add_argument("--runs", type=positive, default=10,
                         help="independent runs (default: %(default)s, as in the paper)")
-    parser.add_argument("--seed", type=int, default=1,
+    parser.add_argument("--seed", type=seed, default=1,
                         help="base random seed; a run is a pure function of it (default: 1)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace results made with other settings instead of refusing")

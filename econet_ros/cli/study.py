@@ -10,7 +10,8 @@ from pathlib import Path
 
 from ..config import CONDITIONS
 from ..errors import UsageError
-from ..runs import ensure_writable
+from ..runs import locked
+from ..science.report import build_report, report_paths
 from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, StudySpec, run_study
 from .options import add_config_options, add_run_options, config_from, positive
 
@@ -78,22 +79,21 @@ def run(args: argparse.Namespace) -> int:
     for changes in variants.values():
         config.replace(**changes)          # fail now on a variant that cannot work
     out = Path(args.out)
-    ensure_writable(out)
-    if args.overwrite:
-        for sub in (*CONDITIONS, "sensitivity", "figures"):
-            shutil.rmtree(out / sub, ignore_errors=True)
-        (out / "study.json").unlink(missing_ok=True)
-    spec = StudySpec(config, args.runs, args.seed, variants,
-                     args.sensitivity_runs if sensitivity else None)
-    seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
-    print(f"evolution: {seconds / 60:.1f} min")
-    return report(out, args.report, args.figures, args.sweep)
+    with locked(out):
+        if args.overwrite:
+            for sub in (*CONDITIONS, "sensitivity", "figures"):
+                shutil.rmtree(out / sub, ignore_errors=True)
+            (out / "study.json").unlink(missing_ok=True)
+        report_paths(out, args.report, args.figures)
+        spec = StudySpec(config, args.runs, args.seed, variants,
+                         args.sensitivity_runs if sensitivity else None)
+        seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
+        print(f"evolution: {seconds / 60:.1f} min")
+        return report(out, args.report, args.figures, args.sweep)
 
 
 def report(out: Path, report_path: str | None, figures: str | None,
            sweeps: list[str] = ()) -> int:
-    from ..science.report import build_report   # matplotlib: late
-
     started = time.time()
     path, notes = build_report(out, Path(report_path) if report_path else None,
                                Path(figures) if figures else None, [Path(s) for s in sweeps])

@@ -13,38 +13,40 @@ import sys
 import numpy as np
 from rclpy.node import Node
 
+from ..config import Config
 from ..errors import ConfigError, PluginError
 from ..plugins import resolve
 from ..topics import COMMAND, SENSORS, observation_from_fields
 from ..world import World
 from . import graph
-from .runner import declare, node_config, run_node
+from .runner import Param, declare_parameters, default_from, node_config, run_node
 
 MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sensor messages
+
+
+PARAMETERS = (
+    Param("controller", "", "a registered name (normal, three-layer, random, reacher, or a "
+                            "plug-in's entry point) or module:Class; empty = the network "
+                            "parameter"),
+    Param("network", "normal", "older name of the controller parameter (used when controller "
+                               "is empty)"),
+    Param("config", "", "JSON config file (as econet --config); its model and network sections "
+                        "size the network; empty = defaults"),
+    Param("n_envs", 1, "environments at start-up (set_weights may change it)", low=1),
+    Param("max_abs_weight", Config().evolution.weight_range,
+          "set_weights refuses weights beyond +-this value (default: the config's "
+          "weight_range)", low=0.0),
+)
 
 
 class ControllerNode(Node):
     def __init__(self):
         super().__init__("controller")
-        chosen = declare(self, "controller", "",
-                         "controller: a registered name (normal, three-layer, random, "
-                         "reacher, or a plug-in's entry point) or module:Class; empty = "
-                         "the network parameter")
-        network = declare(self, "network", "normal",
-                          "older name of the controller parameter (used when controller "
-                          "is empty)")
-        self.network = chosen or network
-        config_path = declare(self, "config", "",
-                              "JSON config file (as econet --config); its model and "
-                              "network sections size the network; empty = defaults")
-        n_envs = declare(self, "n_envs", 1,
-                         "environments at start-up (set_weights may change it)")
-        self.config = node_config(config_path)
-        self.max_abs = declare(self, "max_abs_weight",
-                               float(self.config.evolution.weight_range),
-                               "set_weights refuses weights beyond +-this value")
-        if n_envs < 1:
-            raise ConfigError(f"n_envs must be at least 1, got {n_envs}")
+        v = declare_parameters(self, PARAMETERS)
+        self.network = v["controller"] or v["network"]
+        self.config = node_config(v["config"])
+        default_from(self, v, {"max_abs_weight": self.config.evolution.weight_range})
+        self.max_abs, n_envs = v["max_abs_weight"], v["n_envs"]
         try:
             self.cls = resolve(self.network)
             self.controller = self.cls(n_envs, self.config)
@@ -161,11 +163,12 @@ class ControllerNode(Node):
                 f"{len(parts['touch']['contact'])} touch values)", throttle_duration_sec=5.0)
             return
         motor = self.controller.act(obs)
-        self.pub.publish(graph.encode_command(retina["trial"], retina["cycle"], motor))
+        graph.send(self, self.pub, graph.encode_command(retina["trial"], retina["cycle"], motor))
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("controller_node", ControllerNode, args)
+    return run_node("controller_node", ControllerNode, args, parameters=PARAMETERS,
+                    doc=__doc__)
 
 
 if __name__ == "__main__":

@@ -7,31 +7,26 @@ import array
 import importlib
 
 import numpy as np
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import WireError
-from ..topics import COMMAND, LOCKSTEP, SENSORS, SERVICES, TOPICS, command_fields, sensor_fields
+from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, SENSORS, SERVICES, TF_STATIC, TOPICS,
+                      command_fields, sensor_fields)
 from ..world import Observation
 from .wire import Codec
 
-QOS = {
-    # Lockstep topics: reliable and keep-all, so that no reader ever loses a cycle: a publisher
-    # keeps each message until every reader (controller, supervisor, a recorder) has it.
-    "lockstep": QoSProfile(history=HistoryPolicy.KEEP_ALL,
-                           reliability=ReliabilityPolicy.RELIABLE),
-    # Trial starts: a recorder that joins mid-trial still learns how the current trial started.
-    "latched": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                          reliability=ReliabilityPolicy.RELIABLE,
-                          durability=DurabilityPolicy.TRANSIENT_LOCAL),
-    # Display topics: only the newest picture matters.
-    "display": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5,
-                          reliability=ReliabilityPolicy.RELIABLE),
-    # Progress: late joiners get the latest generations too.
-    "progress": QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
-                           reliability=ReliabilityPolicy.RELIABLE,
-                           durability=DurabilityPolicy.TRANSIENT_LOCAL),
-}
+def _profile(spec) -> QoSProfile:
+    """The rclpy profile of a QoS kind of the topic table."""
+    return QoSProfile(
+        history=HistoryPolicy[spec.history.upper()],
+        depth=max(spec.depth, 1),                     # ignored for keep_all
+        reliability=ReliabilityPolicy[spec.reliability.upper()],
+        durability=DurabilityPolicy[spec.durability.upper()])
+
+
+QOS = {kind: _profile(spec) for kind, spec in QOS_KINDS.items()}
 LOCKSTEP_QOS = QOS["lockstep"]
 
 
@@ -59,6 +54,31 @@ def publisher(node: Node, topic: str):
 
 def subscription(node: Node, topic: str, callback, raw: bool = False):
     return node.create_subscription(message_class(topic), topic, callback, qos(topic), raw=raw)
+
+
+def send(node: Node, publisher, data) -> bool:
+    """Publish; False, with a throttled log line, if the middleware refuses. A reliable,
+    keep-all publisher refuses when a reader that stopped taking messages (a node shutting
+    down, or stalled) has filled its history for longer than it may block: a node then loses
+    that message instead of crashing."""
+    try:
+        publisher.publish(data)
+        return True
+    except _rclpy.RCLError as error:
+        node.get_logger().error(f"could not publish on {publisher.topic_name}: "
+                                f"{str(error).splitlines()[0]}", throttle_duration_sec=5.0)
+        return False
+
+
+def tf_static_publisher(node: Node):
+    """A publisher of /tf_static, or None where tf2_msgs is not installed (it is not among the
+    ROS 2 wheels on PyPI; every ROS 2 installation has it)."""
+    try:
+        importlib.import_module("tf2_msgs.msg")
+    except ImportError:
+        return None
+    return node.create_publisher(interface(TF_STATIC.type), TF_STATIC.name,
+                                 QOS[TF_STATIC.qos])
 
 
 # -- lockstep messages as bytes (see wire) -----------------------------------------------------
@@ -112,5 +132,5 @@ def typed(fields: dict) -> dict:
 
 
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
-           "service_class", "publisher", "subscription", "decode", "encode_sensors",
-           "encode_command", "f64", "as_f64", "as_u8", "typed"]
+           "service_class", "publisher", "subscription", "send", "tf_static_publisher", "decode",
+           "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]

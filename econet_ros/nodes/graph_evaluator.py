@@ -24,6 +24,7 @@ from ..topics import COMMAND, SENSORS
 from ..trials import TrialMeasures
 from ..world import TrialSetup
 from . import graph
+from .runner import check_stop
 
 
 class BatchFailed(GraphError):
@@ -79,15 +80,16 @@ class GraphEvaluator:
     def run_batch(self, weights_request, reset_request, where: str, bag: Path | None = None,
                   custom: dict | None = None) -> np.ndarray:
         """(cycles, n_envs) contact history of one batch, retried until it finishes; with
-        ``bag``, the attempt that finishes is recorded (into bag.partial, renamed to bag)."""
+        ``bag``, the attempt that finishes is recorded (as <bag>.partial/<name>, moved to
+        <bag> when complete, so that its MCAP file is <name>.mcap)."""
         attempt = 0
         while True:
             attempt += 1
-            partial = bag.with_name(bag.name + ".partial") if bag else None
+            partial = bag.parent / f"{bag.name}.partial" / bag.name if bag else None
             try:
                 if partial:
-                    shutil.rmtree(partial, ignore_errors=True)
-                    partial.parent.mkdir(parents=True, exist_ok=True)
+                    shutil.rmtree(partial.parent, ignore_errors=True)
+                    partial.parent.mkdir(parents=True)
                     # messages of trials before the next reset are stragglers (a retry may
                     # follow a restarted world, whose trials count from 1 again)
                     self.recorder.start(partial, custom,
@@ -97,6 +99,7 @@ class GraphEvaluator:
                     self._finish_recording(reset_request.cycles)
                     self.recorder.stop()
                     partial.rename(bag)
+                    partial.parent.rmdir()
                 return contact
             except BatchFailed as why:
                 self.node.get_logger().warning(
@@ -125,7 +128,7 @@ class GraphEvaluator:
         self.last_touch = time.monotonic()
         heard = self.touch.setdefault(trial, {})
         while len(heard) < cycles + 1:
-            self.executor.spin_once(timeout_sec=0.05)
+            self._spin_once()
             heard = self.touch.setdefault(trial, {})
             self._check_alive(len(heard) - 1, cycles)
         contact = np.empty((cycles, n), dtype=bool)
@@ -178,8 +181,13 @@ class GraphEvaluator:
         while not done():
             if time.monotonic() > deadline:
                 return False
-            self.executor.spin_once(timeout_sec=0.05)
+            self._spin_once()
         return True
+
+    def _spin_once(self) -> None:
+        """Serve callbacks for a moment; Stopped (ends the node quietly) after a signal."""
+        check_stop()
+        self.executor.spin_once(timeout_sec=0.05)
 
     def _call(self, client, request, what: str):
         if not client.service_is_ready():

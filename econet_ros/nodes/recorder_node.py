@@ -5,7 +5,12 @@ available from PyPI; on a ROS 2 machine ``ros2 bag record`` of the same topics w
 Subscribes  trial_start, retina, proprioception, touch, muscle_command, joint_states, markers
             (or the `topics` parameter's subset), raw: messages are stored as they arrive
 
-Ctrl-C or SIGTERM closes the bag, which then opens and holds everything recorded before.
+It says "recording" only once every recorded topic has a matched publisher and those have had
+half a second to match it back (before that, "waiting for publishers of ..."), so that what is
+started after that line is in the bag from its first message. Ctrl-C or SIGTERM closes the
+bag, which then opens and holds everything recorded before; a recorder killed outright
+(SIGKILL, power loss) leaves a bag without metadata.yaml that loses at most the last second:
+``econet bag repair BAG`` recovers it.
 """
 from __future__ import annotations
 
@@ -17,18 +22,26 @@ import rclpy
 from rclpy.node import Node
 
 from ..errors import BagError, ConfigError
-from .runner import declare, run_node
+from .runner import Param, declare_parameters, run_node, stop_requested
 from .topic_recorder import ALL_TOPICS, TopicRecorder
+
+# A subscription sees its publishers before they see it (each side learns of the other on its
+# own; here up to a tenth of a second under load), and a publisher sends only to readers it has
+# seen: "recording" waits this long after the subscriptions matched.
+MATCH_SETTLE_SEC = 0.5
+
+PARAMETERS = (
+    Param("out", "", "bag folder to create (must not exist); empty = "
+                     "bags/econet-YYYYmmdd-HHMMSS"),
+    Param("topics", ",".join(ALL_TOPICS), "comma-separated topics to record (relative names)"),
+)
 
 
 class RecorderNode(Node):
     def __init__(self):
         super().__init__("recorder")
-        out = declare(self, "out", "",
-                      "bag folder to create (must not exist); empty = "
-                      "bags/econet-YYYYmmdd-HHMMSS")
-        topics = declare(self, "topics", ",".join(ALL_TOPICS),
-                         "comma-separated topics to record (relative names)")
+        v = declare_parameters(self, PARAMETERS)
+        out, topics = v["out"], v["topics"]
         self.out = Path(out or time.strftime("bags/econet-%Y%m%d-%H%M%S"))
         if self.out.exists():
             raise ConfigError(f"bag {self.out} exists already (a bag is a new folder)")
@@ -41,32 +54,51 @@ class RecorderNode(Node):
             self.recorder.start(self.out, {"econet.source": "recorder_node"})
         except OSError as error:
             raise BagError(f"cannot create bag {self.out}: {error.strerror or error}") from None
-        self.get_logger().info(f"recording {', '.join(names)} to {self.out}")
+        self.names = names
+        self.get_logger().info(f"bag {self.out} open; waiting for publishers of "
+                               f"{', '.join(self.recorder.unmatched())}")
+        self.matched_at: float | None = None
+        self.waiting = self.create_timer(0.05, self._check_matched)
+
+    def _check_matched(self) -> None:
+        """Say "recording" once every recorded topic has a matched publisher, and the
+        publishers have had MATCH_SETTLE_SEC to match this node's subscriptions in turn."""
+        if self.recorder.unmatched():
+            self.matched_at = None
+            return
+        now = time.monotonic()
+        if self.matched_at is None:
+            self.matched_at = now
+        if now - self.matched_at >= MATCH_SETTLE_SEC:
+            self.waiting.cancel()
+            self.get_logger().info(f"recording {', '.join(self.names)} to {self.out}")
 
 
 def _body(node: RecorderNode, executor) -> int:
     try:
-        while rclpy.ok():
+        while rclpy.ok() and not stop_requested():
             executor.spin_once(timeout_sec=0.2)
+        _drain(node.recorder, executor)
     finally:
-        node.recorder.stop()          # Ctrl-C, SIGTERM (rclpy's handler shuts down) or error
+        node.recorder.stop()          # Ctrl-C, SIGTERM or an error
         print(f"recorder_node: bag closed: {node.out}", file=sys.stderr)
     return 0
 
 
+def _drain(recorder: TopicRecorder, executor, most_sec: float = 1.0) -> None:
+    """After a signal: take what had arrived before it (until nothing comes for 50 ms, at
+    most a second), so that the bag holds every message sent before the signal."""
+    deadline = time.monotonic() + most_sec
+    while time.monotonic() < deadline:
+        before = recorder.received
+        executor.spin_once(timeout_sec=0.05)
+        if recorder.received == before:
+            return
+
+
 def main(args: list[str] | None = None) -> int:
-    node_holder = {}
-
-    def make():
-        node_holder["node"] = RecorderNode()
-        return node_holder["node"]
-
-    try:
-        return run_node("recorder_node", make, args, body=_body)
-    finally:
-        node = node_holder.get("node")
-        if node is not None:
-            node.recorder.stop()
+    return run_node("recorder_node", RecorderNode, args, body=_body, parameters=PARAMETERS,
+                    doc=__doc__)
 
 
 if __name__ == "__main__":

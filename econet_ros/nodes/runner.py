@@ -1,54 +1,133 @@
-"""Running a node: parameters with descriptors, the executor, and the one place where an
-EconetError becomes one line on stderr (exit 2) and Ctrl-C or shutdown end quietly."""
+"""Running a node: its parameters declared from one table (with types, ranges and descriptions,
+as turtlesim does), ``--help`` from the same table, the executor, and the one place where an
+EconetError becomes one line on stderr (exit 2) and SIGINT or SIGTERM end quietly (exit 0).
+
+Signals only raise a flag (rclpy's own handlers, which shut the context down at once, are not
+installed): a callback that is publishing when the signal comes finishes, and the node stops
+between callbacks, where every spin loop checks the flag (``spin``, ``check_stop``)."""
 from __future__ import annotations
 
 import os
+import signal
 import sys
-from typing import Callable
+import threading
+from typing import Any, Callable, NamedTuple
 
 import rclpy
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 ParameterType)
 from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
 
-from ..config import SETTINGS, Config, Setting, load_config
+from ..config import Config, Setting, checked_value, load_config
 from ..errors import ConfigError, EconetError
 
 
-def declare(node: Node, name: str, default, description: str):
-    """Declare a parameter with a description and return its value."""
-    return node.declare_parameter(name, default,
-                                  ParameterDescriptor(description=description)).value
+class Param(NamedTuple):
+    """A node parameter: its default (which fixes its type), what it means, and the values it
+    may take (choices, or the closed range low..high)."""
+
+    name: str
+    default: Any
+    help: str
+    low: float | None = None
+    high: float | None = None
+    choices: tuple | None = None
+
+    # what config.checked_value needs to check a value against this parameter
+    @property
+    def key(self) -> str:
+        return self.name
+
+    @property
+    def type(self) -> type:
+        return type(self.default)
+
+    @classmethod
+    def of_setting(cls, item: Setting) -> "Param":
+        """A config field as a parameter of the same name."""
+        source = "paper" if item.paper else "assumption"
+        return cls(item.name, item.default, f"{item.help} ({source})", item.low, item.high,
+                   item.choices)
+
+    def allowed(self) -> str:
+        """The values it may take, in words ('' if any value of its type)."""
+        if self.choices:
+            return f"one of {', '.join(map(str, self.choices))}"
+        if self.low is not None and self.high is not None:
+            return f"{self.low:g} to {self.high:g}"
+        if self.low is not None:
+            return f"at least {self.low:g}"
+        return f"at most {self.high:g}" if self.high is not None else ""
 
 
-def declare_setting(node: Node, item: Setting):
-    """Declare a config field as a parameter of the same name, with its help text, choices and
-    range in the descriptor (what `ros2 param describe` shows); returns its value."""
-    descriptor = ParameterDescriptor(description=item.describe())
-    if item.type is float:
-        descriptor.type = ParameterType.PARAMETER_DOUBLE
-        descriptor.floating_point_range = [FloatingPointRange(
-            from_value=float(item.low if item.low is not None else -1e308),
-            to_value=float(item.high if item.high is not None else 1e308))]
-    elif item.type is int:
-        descriptor.type = ParameterType.PARAMETER_INTEGER
-        descriptor.integer_range = [IntegerRange(
-            from_value=int(item.low if item.low is not None else -2 ** 62),
-            to_value=int(item.high if item.high is not None else 2 ** 62))]
-    if item.choices:
-        descriptor.additional_constraints = f"one of {', '.join(map(str, item.choices))}"
-    return node.declare_parameter(item.name, item.default, descriptor).value
+_TYPES = {bool: ParameterType.PARAMETER_BOOL, int: ParameterType.PARAMETER_INTEGER,
+          float: ParameterType.PARAMETER_DOUBLE, str: ParameterType.PARAMETER_STRING}
+_TYPE_NAMES = {bool: "bool", int: "integer", float: "double", str: "string"}
+_UNBOUNDED = {int: 2 ** 62, float: 1e308}
 
 
-def declare_settings(node: Node, section: str) -> dict[str, object]:
-    """Every setting of a config section as a parameter; returns {dotted key: value}."""
-    return {item.key: declare_setting(node, item) for item in SETTINGS
-            if item.section == section}
+def descriptor(param: Param) -> ParameterDescriptor:
+    """What `ros2 param describe` shows: type, description, range or choices."""
+    described = ParameterDescriptor(description=param.help, type=_TYPES[param.type])
+    if param.type in (int, float) and (param.low is not None or param.high is not None):
+        big = _UNBOUNDED[param.type]
+        low = param.type(param.low) if param.low is not None else -big
+        high = param.type(param.high) if param.high is not None else big
+        if param.type is int:
+            described.integer_range = [IntegerRange(from_value=low, to_value=high, step=0)]
+        else:
+            described.floating_point_range = [FloatingPointRange(from_value=low, to_value=high,
+                                                                 step=0.0)]
+    if param.choices:
+        described.additional_constraints = param.allowed()
+    return described
+
+
+def declare_parameters(node: Node, table: tuple[Param, ...]) -> dict[str, Any]:
+    """Declare every parameter of the table; returns {name: value}. A value given as the user
+    types it is checked here (an integer where a float is expected is accepted, as for the
+    config), so that a bad one is one ConfigError instead of rclpy's traceback; a name the
+    node does not have is one too."""
+    # rclpy keeps the --ros-args / params-file values here; it has no public accessor.
+    given = node._parameter_overrides
+    values = {}
+    for param in table:
+        value = checked_value(param, given[param.name].value) if param.name in given \
+            else param.default
+        node.declare_parameter(param.name, value, descriptor(param), ignore_override=True)
+        values[param.name] = value
+    unknown = sorted(name for name in given if not node.has_parameter(name))
+    if unknown:
+        raise ConfigError(f"unknown parameter(s) {', '.join(unknown)} (see --help)")
+    return values
+
+
+def default_from(node: Node, values: dict[str, Any], defaults: dict[str, Any]) -> None:
+    """Parameters the user did not give take these defaults instead of the table's (e.g. the
+    settings of the `config` file); `ros2 param get` then shows what the node uses."""
+    for name, value in defaults.items():
+        if name not in node._parameter_overrides:
+            values[name] = value
+            node.set_parameters([Parameter(name, value=value)])
 
 
 def node_config(path: str) -> Config:
     """The Config a node runs with: defaults, or the JSON file `path` (as `econet --config`)."""
     return load_config(path) if path else Config()
+
+
+def usage(prog: str, doc: str, table: tuple[Param, ...]) -> str:
+    """The --help text: what the node does and every parameter with type, default, range."""
+    lines = [f"usage: {prog} [--ros-args -p NAME:=VALUE ...]", "", doc.strip().split("\n\n")[0],
+             "", "parameters:"]
+    for param in table:
+        allowed = param.allowed()
+        lines.append(f"  {param.name} ({_TYPE_NAMES[param.type]}, default "
+                     f"{param.default!r}{', ' + allowed if allowed else ''})")
+        lines.append(f"      {param.help}")
+    return "\n".join(lines)
 
 
 def make_executor(kind: str | None = None):
@@ -64,19 +143,58 @@ def make_executor(kind: str | None = None):
     raise ConfigError(f"unknown executor '{kind}' (choose events or single)")
 
 
+_STOP = threading.Event()
+
+
+class Stopped(Exception):
+    """SIGINT or SIGTERM asked the node to stop (raised between callbacks, by check_stop)."""
+
+
+def stop_requested() -> bool:
+    return _STOP.is_set()
+
+
+def check_stop() -> None:
+    """Raise Stopped if a signal asked the node to stop; loops that spin call this."""
+    if _STOP.is_set():
+        raise Stopped
+
+
 def spin(node: Node, executor) -> None:
-    """Serve callbacks until shutdown. A finite timeout: the EventsExecutor spun without one
-    busy-loops and ignores Ctrl-C."""
+    """Serve callbacks until a signal or shutdown. A finite timeout: the EventsExecutor spun
+    without one busy-loops, and the stop flag is looked at between spins."""
     executor.add_node(node)
-    while rclpy.ok():
+    while rclpy.ok() and not stop_requested():
         executor.spin_once(timeout_sec=0.5)
 
 
+def _catch_signals() -> None:
+    """SIGINT and SIGTERM set the stop flag instead of raising KeyboardInterrupt anywhere (e.g.
+    halfway through closing a bag) or killing the process."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: _STOP.set())
+
+
 def run_node(prog: str, make: Callable[[], Node], args: list[str] | None = None,
-             body: Callable[[Node, object], int | None] | None = None) -> int:
-    """Start rclpy, build the node, serve it (or run body(node, executor)); bad input ends in
-    one line on stderr and exit status 2, Ctrl-C and shutdown end quietly."""
-    rclpy.init(args=sys.argv if args is None else args)
+             body: Callable[[Node, object], int | None] | None = None,
+             parameters: tuple[Param, ...] = (), doc: str = "") -> int:
+    """Start rclpy, build the node, serve it (or run body(node, executor)). --help prints the
+    parameters and starts nothing; bad input ends in one line on stderr and exit status 2;
+    SIGINT and SIGTERM end quietly with status 0, whatever was running then."""
+    args = sys.argv if args is None else args
+    ours = args[:args.index("--ros-args")] if "--ros-args" in args else args
+    if "--help" in ours or "-h" in ours:
+        try:
+            print(usage(prog, doc, parameters), flush=True)
+        except BrokenPipeError:                 # `--help | head`: the reader had enough
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    _catch_signals()
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except Exception as error:  # noqa: BLE001 - rclpy's argument parser: one line
+        print(f"{prog}: error: {str(error).strip().splitlines()[0]}", file=sys.stderr)
+        return 2
     node = None
     status = 0
     try:
@@ -90,9 +208,7 @@ def run_node(prog: str, make: Callable[[], Node], args: list[str] | None = None,
     except EconetError as error:
         print(f"{prog}: error: {error}", file=sys.stderr)
         status = 2
-    except KeyboardInterrupt:
-        status = 130
-    except rclpy.executors.ExternalShutdownException:
+    except Stopped:
         status = 0
     finally:
         if node is not None:

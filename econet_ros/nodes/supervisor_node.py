@@ -38,55 +38,79 @@ from ..plugins import resolve
 from ..runs import ensure_writable, run_condition
 from . import graph
 from .graph_evaluator import GraphEvaluator
-from .runner import declare, declare_setting, node_config, run_node
+from .runner import Param, declare_parameters, default_from, node_config, run_node
 
-# Parameters beyond the config's evolution settings: name -> (default, description).
-RUN_PARAMETERS = {
-    "seed": (1, "base random seed; a run is a pure function of it"),
-    "runs": (1, "independent runs, written to out/run-01, run-02, ..."),
-    "out": ("results/graph", "output folder (same layout as econet evolve --out)"),
-    "controller": ("", "controller the controller node runs, if not the condition's network: a "
-                       "registered name or module:Class (its n_params sizes the genomes)"),
-    "record_every": (0, "record the best econet's trials as a bag every this many generations "
-                        "(and the last); 0 = never"),
-    "record_dir": ("", "folder of the bags; empty = <out>/bags"),
-    "overwrite": (False, "delete out/run-* first instead of resuming them"),
-    "stall_timeout_sec": (3.0, "test a generation again when no cycle arrives for this long"),
-    "service_timeout_sec": (5.0, "wait this long for a service reply before retrying"),
-    "linger_sec": (1.0, "stay this long after the last generation so that late monitors "
-                        "receive the final progress messages"),
-}
+EXTERNAL = "external"     # controller:=external: a controller node the supervisor does not know
+
+# Parameters beyond the config's evolution settings.
+RUN_PARAMETERS = (
+    Param("seed", 1, "base random seed; a run is a pure function of it", low=0),
+    Param("runs", 1, "independent runs, written to out/run-01, run-02, ...", low=1),
+    Param("out", "results/graph", "output folder (same layout as econet evolve --out)"),
+    Param("controller", "", "controller the controller node runs, if not the condition's "
+                            "network: a registered name or module:Class (its n_params sizes "
+                            "the genomes), or 'external' for a node the supervisor does not "
+                            "know (give n_weights)"),
+    Param("n_weights", 0, "controller:=external only: weights per econet that the outside "
+                          "controller node takes (its set_weights gets weights_per_network = "
+                          "this)", low=0),
+    Param("record_every", 0, "record the best econet's trials as a bag every this many "
+                             "generations (and the last); 0 = never", low=0),
+    Param("record_dir", "", "folder of the bags; empty = <out>/bags"),
+    Param("overwrite", False, "delete out/run-* first instead of resuming them"),
+    Param("stall_timeout_sec", 3.0, "test a generation again when no cycle arrives for this "
+                                    "long", low=0.01),
+    Param("service_timeout_sec", 5.0, "wait this long for a service reply before retrying",
+          low=0.01),
+    Param("linger_sec", 1.0, "stay this long after the last generation so that late monitors "
+                             "receive the final progress messages", low=0.0),
+)
+EVOLUTION = tuple(item for item in SETTINGS if item.section == "evolution")
+PARAMETERS = (Param("config", "", "JSON config file (as econet --config); it gives the "
+                                  "defaults of the evolution settings below"),
+              *map(Param.of_setting, EVOLUTION), *RUN_PARAMETERS)
 
 
 class SupervisorNode(Node):
     def __init__(self, **node_options):
         """node_options go to rclpy's Node (e.g. namespace, parameter_overrides)."""
         super().__init__("supervisor", **node_options)
-        base = node_config(declare(self, "config", "", "JSON config file (as econet --config); "
-                                   "it gives the defaults of the parameters below"))
-        changes = {item.key: declare_setting(self, item._replace(
-            default=getattr(base.evolution, item.name))) for item in SETTINGS
-            if item.section == "evolution"}
-        self.v = {name: declare(self, name, default, text)
-                  for name, (default, text) in RUN_PARAMETERS.items()}
-        if self.v["runs"] < 1 or self.v["seed"] < 0 or self.v["record_every"] < 0:
-            raise ConfigError("runs must be at least 1, seed and record_every at least 0")
+        self.v = declare_parameters(self, PARAMETERS)
+        base = node_config(self.v["config"])
+        default_from(self, self.v, {item.name: getattr(base.evolution, item.name)
+                                    for item in EVOLUTION})
+        changes = {item.key: self.v[item.name] for item in EVOLUTION}
         self.config = base.replace(**changes)
         self.out = Path(self.v["out"])
         ensure_writable(self.out)
-        name = self.v["controller"] or self.config.evolution.condition
-        cls = resolve(name)
-        n_weights = cls(1, self.config).n_params
+        self.controller = self.v["controller"] or self.config.evolution.condition
+        n_weights = self._weight_count()
         self.record_dir = Path(self.v["record_dir"] or self.out / "bags")
         recorder = None
         if self.v["record_every"]:
             from .topic_recorder import TopicRecorder
             recorder = TopicRecorder(self)
-        self.evaluator = GraphEvaluator(self, self.config, name, n_weights,
+        # set_weights names the network it expects; an external node's own name is unknown
+        expected = "" if self.controller == EXTERNAL else self.controller
+        self.evaluator = GraphEvaluator(self, self.config, expected, n_weights,
                                         self.v["stall_timeout_sec"],
                                         self.v["service_timeout_sec"], recorder)
         self.pub_progress = graph.publisher(self, "progress")
         self.started = time.monotonic()
+
+    def _weight_count(self) -> int:
+        """Weights per econet: the named controller's n_params, or n_weights for an external
+        one (ConfigError if they are missing or given where they do not apply)."""
+        n_weights = self.v["n_weights"]
+        if self.controller != EXTERNAL:
+            if n_weights:
+                raise ConfigError(f"n_weights is for controller:=external; the "
+                                  f"'{self.controller}' controller has its own weight count")
+            return resolve(self.controller)(1, self.config).n_params
+        if n_weights < 1:
+            raise ConfigError("controller:=external needs n_weights:=K, the weights per econet "
+                              "that the outside controller node takes (at least 1)")
+        return n_weights
 
     # -- per generation -----------------------------------------------------------------------
     def on_generation(self, run: int, result: GenerationResult, offspring: np.ndarray) -> None:
@@ -126,7 +150,7 @@ class SupervisorNode(Node):
                                            generation)
         custom = {"econet.source": "supervisor_node", "econet.run": str(run),
                   "econet.generation": str(generation), "econet.econet": str(best),
-                  "econet.controller": self.evaluator.network, "econet.seed": str(seed),
+                  "econet.controller": self.controller, "econet.seed": str(seed),
                   "econet.scored_fitness": json.dumps(
                       [int(x) for x in result.measures.fitness[best]]),
                   "econet.note": "the generation's best econet, its trials run once more"}
@@ -165,7 +189,8 @@ def _body(node: SupervisorNode, executor) -> int:
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("supervisor_node", SupervisorNode, args, body=_body)
+    return run_node("supervisor_node", SupervisorNode, args, body=_body, parameters=PARAMETERS,
+                    doc=__doc__)
 
 
 if __name__ == "__main__":

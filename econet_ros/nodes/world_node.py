@@ -4,7 +4,9 @@ in lockstep with a controller, or free-running at a fixed rate for demonstration
 Publishes   trial_start (econet_msgs/TrialStart) at every reset; retina (econet_msgs/Retina),
             proprioception (econet_msgs/Proprioception) and touch (econet_msgs/Touch) once per
             cycle; joint_states (sensor_msgs/JointState) and markers
-            (visualization_msgs/MarkerArray) for one display environment, throttled
+            (visualization_msgs/MarkerArray) for one display environment, throttled, built by
+            recording/display.py and sent as bytes; /tf_static (tf2_msgs/TFMessage) once,
+            where tf2_msgs is installed
 Subscribes  muscle_command (econet_msgs/MuscleCommand)
 Serves      reset_trials (econet_msgs/ResetTrials)
 """
@@ -15,55 +17,51 @@ import sys
 import time
 
 import numpy as np
-from geometry_msgs.msg import Point
 from rclpy.node import Node
-from sensor_msgs.msg import JointState
-from visualization_msgs.msg import Marker, MarkerArray
 
 from econet_msgs.msg import TrialStart
 
 from ..errors import ConfigError, SetupError
-from ..topics import COMMAND, SENSORS, trial_start_fields
+from ..recording import display
+from ..topics import COMMAND, FRAME, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
 from . import graph
-from .runner import declare, node_config, run_node
+from .runner import Param, declare_parameters, node_config, run_node
 
 MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
+
+PARAMETERS = (
+    Param("n_envs", 1, "environments at start-up (a reset may change it)", low=1),
+    Param("config", "", "JSON config file (as econet --config); only its model section is "
+                        "used; empty = the paper's defaults"),
+    Param("mode", "lockstep", "lockstep: advance one cycle per matching muscle command; free: "
+                              "advance at rate_hz with the newest command", choices=MODES),
+    Param("rate_hz", 10.0, "cycles per second in free mode", low=0.01, high=10000.0),
+    Param("trial_cycles", 100, "free mode: start a new random trial after this many cycles "
+                               "(0 = never)", low=0),
+    Param("seed", 0, "seed of the trials free mode draws (trial k uses seed + k)", low=0),
+    Param("display_env", 0, "environment shown on joint_states and markers (below n_envs)",
+          low=0),
+    Param("display_rate_hz", 20.0, "most joint_states/markers pictures per second (0 = every "
+                                   "cycle, costly in lockstep)", low=0.0),
+    Param("frame_id", FRAME, "frame of the pictures: the agent at its origin, x right, y up, "
+                             "one workspace unit = 1 m; /tf_static puts it at the origin of "
+                             "map"),
+)
 
 
 class WorldNode(Node):
     def __init__(self):
         super().__init__("world")
-        n_envs = declare(self, "n_envs", 1,
-                         "environments at start-up (a reset may change it)")
-        config_path = declare(self, "config", "",
-                              "JSON config file (as econet --config); only its model "
-                              "section is used; empty = the paper's defaults")
-        self.mode = declare(self, "mode", "lockstep",
-                            "lockstep: advance one cycle per matching muscle command; "
-                            "free: advance at rate_hz with the newest command")
-        rate = declare(self, "rate_hz", 10.0, "cycles per second in free mode")
-        self.free_cycles = declare(self, "trial_cycles", 100,
-                                   "free mode: start a new random trial after this many "
-                                   "cycles (0 = never)")
-        self.seed = declare(self, "seed", 0,
-                            "seed of the trials free mode draws (trial k uses seed + k)")
-        self.display_env = declare(self, "display_env", 0,
-                                   "environment shown on joint_states and markers")
-        display_rate = declare(self, "display_rate_hz", 20.0,
-                               "most joint_states/markers pictures per second "
-                               "(0 = every cycle, costly in lockstep)")
-        self.frame_id = declare(self, "frame_id", "econet",
-                                "frame of the markers (agent at the origin, units = "
-                                "workspace units)")
-        if self.mode not in MODES:
-            raise ConfigError(f"mode must be one of {', '.join(MODES)}, got '{self.mode}'")
-        if n_envs < 1:
-            raise ConfigError(f"n_envs must be at least 1, got {n_envs}")
-        if rate <= 0:
-            raise ConfigError(f"rate_hz must be positive, got {rate}")
-        self.model = node_config(config_path).model
+        v = declare_parameters(self, PARAMETERS)
+        n_envs, rate, display_rate = v["n_envs"], v["rate_hz"], v["display_rate_hz"]
+        self.mode, self.free_cycles, self.seed = v["mode"], v["trial_cycles"], v["seed"]
+        self.display_env, self.frame_id = v["display_env"], v["frame_id"]
+        if self.display_env >= n_envs:
+            raise ConfigError(f"display_env must be below n_envs ({n_envs}), got "
+                              f"{self.display_env}")
+        self.model = node_config(v["config"]).model
         self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
         self._last_display = -math.inf
 
@@ -72,6 +70,8 @@ class WorldNode(Node):
         World(1, self.model).step(self._motor(codec.decode(graph.encode_command(
             0, 0, NEUTRAL[None, :])), n_envs=1))
         self.world = World(n_envs, self.model)
+        # and load the picture's message types (a fifth of a second), not in the first cycle
+        display.picture(self.world, 0, False, False, self.frame_id, 0)
         self.trial = 0
         self.limit = 0          # trial length; 0 = unlimited
         self.started = False    # lockstep: no trial until the first reset
@@ -81,6 +81,7 @@ class WorldNode(Node):
         self.pub_start = graph.publisher(self, "trial_start")
         self.pub_joints = graph.publisher(self, "joint_states")
         self.pub_markers = graph.publisher(self, "markers")
+        self._publish_frame()
         graph.subscription(self, COMMAND, self._on_command, raw=True)
         self.create_service(graph.service_class("reset_trials"), "reset_trials", self._on_reset)
 
@@ -89,11 +90,24 @@ class WorldNode(Node):
             self.create_timer(1.0 / rate, self._on_tick)
         self.get_logger().info(f"world ready: {n_envs} environment(s), {self.mode} mode")
 
+    def _publish_frame(self) -> None:
+        """/tf_static: the frame of the pictures at the origin of `map` (RViz's default fixed
+        frame). tf2_msgs is not among the PyPI wheels; without it the bags and the viewer still
+        carry the frame."""
+        static = graph.tf_static_publisher(self)
+        if static is None:
+            self.get_logger().info("tf2_msgs is not installed: no /tf_static (bags and the "
+                                   "viewer carry the frame themselves)")
+            return
+        self.pub_static = static
+        static.publish(display.tf_static(self.frame_id, self.get_clock().now().nanoseconds))
+
     # -- trials -----------------------------------------------------------------------------
     def _start(self, setup: TrialSetup, cycles: int) -> None:
         if len(setup) != self.world.n_envs:
             self.world = World(len(setup), self.model)
         self.world.reset(setup)
+        self._last_display = -math.inf        # every trial's first picture is its cycle 0
         self.trial += 1
         self.limit = cycles
         self.started = True
@@ -150,8 +164,10 @@ class WorldNode(Node):
             return
         if self.mode == "free":
             motor = self._motor(msg)
-            if motor is not None:
+            if motor is not None and np.all(np.isfinite(motor)):
                 self.latest = motor
+            elif motor is not None:
+                self._not_finite()
             return
         where = f"trial {msg['trial']} cycle {msg['cycle']}"
         if not self.started:
@@ -167,21 +183,26 @@ class WorldNode(Node):
                                       "(reset_trials starts the next)")
             return
         motor = self._motor(msg)
-        if motor is not None:
-            self._publish(self.world.step(motor))
+        if motor is None:
+            return
+        try:
+            obs = self.world.step(motor)        # its kernel checks that every value is finite
+        except ValueError:
+            self._not_finite()
+            return
+        self._publish(obs)
+
+    def _not_finite(self) -> None:
+        self.get_logger().error("rejected muscle command: it contains NaN or infinite values")
 
     def _motor(self, msg: dict, n_envs: int | None = None) -> np.ndarray | None:
-        """The command's (n, 5) outputs, or None (logged) if they are unusable."""
+        """The command's (n, 5) outputs, or None (logged) if their number is wrong."""
         n = self.world.n_envs if n_envs is None else n_envs
         motor = msg["activation"]
         if msg["n_envs"] != n or len(motor) != n * N_MOTOR:
             self.get_logger().error(
                 f"rejected muscle command: {len(motor)} values for n_envs={msg['n_envs']}, the "
                 f"world has {n} environment(s) x {N_MOTOR} muscles = {n * N_MOTOR} values")
-            return None
-        if not np.all(np.isfinite(motor)):
-            self.get_logger().error("rejected muscle command: it contains NaN or infinite "
-                                    "values")
             return None
         return motor.reshape(n, N_MOTOR)
 
@@ -199,62 +220,24 @@ class WorldNode(Node):
         """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
         final = bool(self.limit and obs.cycle >= self.limit)
         for part, data in graph.encode_sensors(obs, self.trial, final).items():
-            self.sensor_pubs[part].publish(data)
+            graph.send(self, self.sensor_pubs[part], data)
         now = time.monotonic()
         if now - self._last_display >= self.display_period or final:
             self._last_display = now
             self._publish_display(obs)
 
     def _publish_display(self, obs: Observation) -> None:
-        i = min(max(self.display_env, 0), self.world.n_envs - 1)
-        w, m = self.world, self.model
-        stamp = self.get_clock().now().to_msg()
-        joints = JointState()
-        joints.header.stamp = stamp
-        joints.header.frame_id = self.frame_id
-        joints.name = ["body", "shoulder", "elbow"]
-        joints.position = [math.radians(w.body[i]), math.radians(w.shoulder[i]),
-                           math.radians(w.elbow[i])]
-        self.pub_joints.publish(joints)
-
-        points = w.arm_points()[i]
-        body = math.radians(w.body[i])
-        half = math.radians(m.field_of_view_deg / 2)
-        reach = m.visual_range
-        eye_field = [(0.0, 0.0), (reach * math.cos(body - half), reach * math.sin(body - half)),
-                     (0.0, 0.0), (reach * math.cos(body + half), reach * math.sin(body + half))]
-        touching = bool(obs.touch[i] > 0.5)
-        markers = MarkerArray()
-        markers.markers = [
-            self._marker(0, "arm", Marker.LINE_STRIP, points[:3], (0.9, 0.8, 0.6), 1.5, stamp),
-            self._marker(1, "hand", Marker.LINE_STRIP, points[2:],
-                         (0.1, 0.9, 0.1) if touching else (0.9, 0.3, 0.2), 2.0, stamp),
-            self._marker(2, "eye_field", Marker.LINE_LIST, eye_field,
-                         (0.3, 0.6, 1.0) if obs.fixated[i] else (0.5, 0.5, 0.5), 0.4, stamp),
-            self._marker(3, "object", Marker.CYLINDER, [w.object_xy[i]], (1.0, 0.8, 0.0),
-                         2 * m.object_radius, stamp),
-        ]
-        self.pub_markers.publish(markers)
-
-    def _marker(self, ident, ns, kind, xy, rgb, size, stamp) -> Marker:
-        marker = Marker()
-        marker.header.frame_id = self.frame_id
-        marker.header.stamp = stamp
-        marker.ns, marker.id, marker.type, marker.action = ns, ident, kind, Marker.ADD
-        marker.pose.orientation.w = 1.0
-        marker.color.r, marker.color.g, marker.color.b, marker.color.a = (*rgb, 1.0)
-        if kind == Marker.CYLINDER:
-            marker.pose.position.x, marker.pose.position.y = float(xy[0][0]), float(xy[0][1])
-            marker.scale.x = marker.scale.y = float(size)
-            marker.scale.z = 1.0
-        else:
-            marker.scale.x = float(size)
-            marker.points = [Point(x=float(x), y=float(y), z=0.0) for x, y in xy]
-        return marker
+        """The display environment's picture (recording/display.py), published as bytes."""
+        i = min(self.display_env, self.world.n_envs - 1)
+        pictures = display.picture(self.world, i, bool(obs.touch[i] > 0.5),
+                                   bool(obs.fixated[i]), self.frame_id,
+                                   self.get_clock().now().nanoseconds)
+        graph.send(self, self.pub_joints, pictures["joint_states"])
+        graph.send(self, self.pub_markers, pictures["markers"])
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("world_node", WorldNode, args)
+    return run_node("world_node", WorldNode, args, parameters=PARAMETERS, doc=__doc__)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@ part):
     muscle_command  econet_msgs/msg/MuscleCommand    one per cycle 0..N-1
     joint_states    sensor_msgs/msg/JointState       display environment only, throttled
     markers         visualization_msgs/msg/MarkerArray  the same
+    /tf_static      tf2_msgs/msg/TFMessage           once: the pictures' frame under `map`
 
 plus ``custom_data`` in metadata.yaml (``econet.*`` keys: who recorded what, and e.g. the
 fitness the supervisor scored). Everything the measures, the replay and the pictures need comes
@@ -24,6 +25,7 @@ without the interface package (``ros2 bag play`` needs econet_msgs installed).
 from __future__ import annotations
 
 import struct
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,41 +33,14 @@ import numpy as np
 
 from ..config import ModelConfig, model_from_json
 from ..errors import BagError, ConfigError
-from ..topics import (COMMAND, DISPLAY, LOCKSTEP, RECORDED, TOPICS, command_fields,
-                      sensor_fields, trial_start_fields)
+from ..topics import (COMMAND, DISPLAY, FRAME, LOCKSTEP, QOS_KINDS, RECORDED, TF_STATIC, TOPICS,
+                      Qos, command_fields, sensor_fields, trial_start_fields)
 from ..trials import TrialMeasures
 from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World
+from . import display
+from .messages import message, serialize, typestore
 
-ECONET_TYPES = ("TrialStart", "Retina", "Proprioception", "Touch", "MuscleCommand")
 BAG_VERSION = 9    # Jazzy/Kilted metadata.yaml (Humble cannot open it; see docs)
-
-
-def msg_dir() -> Path:
-    """The folder holding econet_msgs' .msg definitions (source tree, else the install)."""
-    here = Path(__file__).resolve().parents[2] / "econet_msgs" / "msg"
-    if here.is_dir():
-        return here
-    from ament_index_python.packages import get_package_share_directory   # installed layout
-    return Path(get_package_share_directory("econet_msgs")) / "msg"
-
-
-_TYPESTORE = None
-
-
-def typestore():
-    """A rosbags typestore with ROS 2 Kilted's standard types and econet_msgs registered."""
-    global _TYPESTORE
-    if _TYPESTORE is None:
-        from rosbags.typesys import Stores, get_types_from_msg, get_typestore
-
-        store = get_typestore(Stores.ROS2_KILTED)
-        types = {}
-        for name in ECONET_TYPES:
-            text = (msg_dir() / f"{name}.msg").read_text(encoding="utf-8")
-            types.update(get_types_from_msg(text, f"econet_msgs/msg/{name}"))
-        store.register(types)
-        _TYPESTORE = store
-    return _TYPESTORE
 
 
 def header(data) -> tuple[int, int]:
@@ -77,13 +52,29 @@ def header(data) -> tuple[int, int]:
 
 # -- writing ----------------------------------------------------------------------------------
 
+_INFINITE = (9223372036, 854775807)     # rosbag2's "no limit" duration (sec, nsec)
+
+
+def offered_qos(spec: Qos):
+    """A QoS kind of the topic table as rosbags writes it into metadata.yaml, so that a replay
+    (``ros2 bag play``) offers what the graph offered, e.g. trial_start's transient local."""
+    from rosbags.interfaces import (Qos as BagQos, QosDurability, QosHistory, QosLiveliness,
+                                    QosReliability, QosTime)
+    return BagQos(QosHistory[spec.history.upper()], spec.depth,
+                  QosReliability[spec.reliability.upper()],
+                  QosDurability[spec.durability.upper()], QosTime(*_INFINITE),
+                  QosTime(*_INFINITE), QosLiveliness.AUTOMATIC, QosTime(*_INFINITE), False)
+
+
 class BagWriter:
-    """A rosbag2 bag being written: ``write(topic, t_ns, cdr_bytes)``, then ``close()``.
+    """A rosbag2 bag being written: ``write(topic, t_ns, cdr_bytes)``, ``flush()`` now and
+    then, then ``close()``.
 
     ``topics`` maps each topic name as it should appear in the bag (e.g. '/retina') to its
-    message type. Closing writes metadata.yaml; close() is idempotent and must run even on
-    Ctrl-C or SIGTERM (the recorder and supervisor close in ``finally``), else the bag lacks
-    its metadata."""
+    message type; each is offered with the QoS of its kind in the topic table. Closing writes
+    metadata.yaml; close() is idempotent and must run even on Ctrl-C or SIGTERM (the recorder
+    and supervisor close in ``finally``). A bag whose writer was killed has no metadata.yaml
+    and no MCAP footer, but every chunk flushed before: ``econet bag repair`` recovers it."""
 
     def __init__(self, path: Path, topics: dict[str, str], custom: dict[str, str] | None = None):
         from rosbags.rosbag2 import StoragePlugin, Writer, WriterError
@@ -98,8 +89,10 @@ class BagWriter:
         except (WriterError, OSError) as error:
             raise BagError(f"cannot create bag {self.path}: {error}") from None
         store = typestore()
-        self._connections = {topic: self._writer.add_connection(topic, msgtype, typestore=store)
-                             for topic, msgtype in topics.items()}
+        self._connections = {
+            topic: self._writer.add_connection(topic, msgtype, typestore=store,
+                                               offered_qos_profiles=_offered_for(topic))
+            for topic, msgtype in topics.items()}
         self.counts = dict.fromkeys(topics, 0)
         self.closed = False
 
@@ -108,6 +101,17 @@ class BagWriter:
             return
         self._writer.write(self._connections[topic], int(t_ns), bytes(data))
         self.counts[topic] += 1
+
+    def flush(self) -> None:
+        """Put every message written so far on disk as complete MCAP chunks, so that a kill
+        loses only what came after. (rosbags' MCAP storage writes a chunk only once it holds
+        1 MiB and has no call for this; its chunk and file are reached directly.)"""
+        storage = self._writer.storage
+        if self.closed or storage is None:
+            return
+        if storage.chunk.msgs:
+            storage.close_chunk()
+        storage.bio.flush()
 
     def close(self) -> None:
         if not self.closed:
@@ -121,32 +125,50 @@ class BagWriter:
         self.close()
 
 
+def _offered_for(topic: str) -> list:
+    known = TF_STATIC if topic == TF_STATIC.name else TOPICS.get(_short(topic))
+    return [offered_qos(QOS_KINDS[known.qos])] if known else []
+
+
 class TrialBagWriter:
-    """Writes trials run in process (no ROS) as the graph would publish them."""
+    """Writes trials run in process (no ROS) as the graph would publish them, stamped with the
+    wall clock as they are computed; with ``world`` given to ``sensors``, also the picture of
+    environment 0 every cycle (and the /tf_static of its frame), as the world node shows it."""
 
     def __init__(self, path: Path, custom: dict[str, str] | None = None, prefix: str = "/"):
         self.prefix = prefix
-        self.bag = BagWriter(path, {prefix + name: TOPICS[name].type for name in RECORDED
-                                    if name not in DISPLAY}, custom)
-        self.store = typestore()
+        self.bag = BagWriter(path, {TF_STATIC.name: TF_STATIC.type,
+                                    **{prefix + name: TOPICS[name].type for name in RECORDED}},
+                             custom)
         self.trial = 0
-        self.t_ns = 1_000_000_000
+        self.t_ns = 0
+
+    def _stamp(self) -> int:
+        """Now, in ns, and later than every message before (the wall clock may repeat)."""
+        self.t_ns = max(time.time_ns(), self.t_ns + 1)
+        return self.t_ns
 
     def _put(self, topic: str, fields: dict) -> None:
         msgtype = TOPICS[topic].type
-        msg = self.store.types[msgtype](**fields)
-        self.bag.write(self.prefix + topic, self.t_ns, self.store.serialize_cdr(msg, msgtype))
-        self.t_ns += 1000
+        self.bag.write(self.prefix + topic, self._stamp(),
+                       serialize(message(msgtype, **fields), msgtype))
 
     def start(self, setup: TrialSetup, model: ModelConfig, cycles: int) -> int:
+        if not self.trial:
+            self.bag.write(TF_STATIC.name, self._stamp(), display.tf_static(FRAME, self.t_ns))
         self.trial += 1
         self._put("trial_start", trial_start_fields(self.trial, cycles, True, setup, model))
         return self.trial
 
-    def sensors(self, obs, cycles: int) -> None:
+    def sensors(self, obs, cycles: int, world: World | None = None) -> None:
         final = bool(cycles and obs.cycle >= cycles)
         for topic, fields in sensor_fields(obs, self.trial, final).items():
             self._put(topic, fields)
+        if world is not None:
+            pictures = display.picture(world, 0, bool(obs.touch[0] > 0.5),
+                                       bool(obs.fixated[0]), FRAME, self._stamp())
+            for topic in DISPLAY:
+                self.bag.write(self.prefix + topic, self._stamp(), pictures[topic])
 
     def command(self, cycle: int, motor: np.ndarray) -> None:
         self._put(COMMAND, command_fields(self.trial, cycle, motor))
@@ -162,13 +184,13 @@ def record_trials(path: Path, world: World, controller, setup: TrialSetup, cycle
     try:
         obs = world.reset(setup)
         writer.start(setup, world.model, cycles)
-        writer.sensors(obs, cycles)
+        writer.sensors(obs, cycles, world)
         contact = np.zeros((cycles, world.n_envs), dtype=bool)
         for t in range(cycles):
             motor = np.asarray(controller.act(obs), dtype=np.float64)
             writer.command(t, motor)
             obs = world.step(motor)
-            writer.sensors(obs, cycles)
+            writer.sensors(obs, cycles, world)
             contact[t] = obs.touch > 0.5
     finally:
         writer.close()
@@ -222,6 +244,8 @@ class Bag:
     custom: dict[str, str]
     trials: list[RecordedTrial] = field(default_factory=list)
     duration_s: float = 0.0
+    # trials heard without their trial_start (cannot be assembled): trial -> messages
+    unstarted: dict[int, int] = field(default_factory=dict)
 
     def count(self, short: str) -> int:
         """Messages on a topic given by its last name part (e.g. 'retina')."""
@@ -239,7 +263,10 @@ def check_path(path: Path) -> Path:
         raise BagError(f"{path}: no such bag (no file or folder of that name)")
     if path.is_dir():
         if not (path / "metadata.yaml").is_file():
-            raise BagError(f"{path} is not a rosbag2 bag: the folder has no metadata.yaml")
+            hint = f" (its recorder was killed?): econet bag repair {path} recovers it" \
+                if any(path.glob("*.mcap")) else ""
+            raise BagError(f"{path} is not a rosbag2 bag: the folder has no metadata.yaml"
+                           f"{hint}")
     elif path.suffix != ".mcap":
         raise BagError(f"{path} is not a bag: expected a bag folder or an .mcap file")
     return path
@@ -272,11 +299,16 @@ def read_bag(path: Path) -> Bag:
         raise
     except Exception as error:   # noqa: BLE001 - rosbags raises many kinds; one line for all
         text = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-        raise BagError(f"cannot read bag {path}: {text}") from None
+        raise BagError(f"cannot read bag {path}: {text} (if its recorder was killed, econet "
+                       f"bag repair {path} recovers its complete chunks)") from None
     bag = Bag(path, topics, custom,
               duration_s=((last - first) / 1e9) if first is not None else 0.0)
     for trial in sorted(starts):
         bag.trials.append(_assemble(starts[trial], parts))
+    for messages in parts.values():
+        for m in messages:
+            if m.trial not in starts:
+                bag.unstarted[m.trial] = bag.unstarted.get(m.trial, 0) + 1
     return bag
 
 

@@ -13,7 +13,7 @@ matplotlib.use("Agg")     # files only, never a window
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..runs import RunData, replay  # noqa: E402
+from ..runs import RunData, replay, writing  # noqa: E402
 from .lesion import LESION_TRIALS  # noqa: E402
 from .measures import CHANCE, body_frame, reach_starts  # noqa: E402
 from .series import nanmean, nanstd, per_run  # noqa: E402
@@ -55,7 +55,8 @@ def _drawings(groups, lesion):
 
 def _save(fig, path: Path) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with writing(path):                     # a full disk or a read-only folder: one line
+        fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
 

@@ -92,7 +92,12 @@ def regime_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
                      f"{'**yes**' if paper_like(criteria) else 'no'} |")
         details.append(f"- **{s.four[0]} vs {s.three[0]}**: "
                        + "; ".join(f"{c.key} {c.text}" for c in criteria))
-    return lines + ["", *details, ""]
+    best, criteria = best_setting(spec, rows)
+    verdict = ("reproduces Figure 3 with paper-like behaviour" if reproduces(criteria)
+               and paper_like(criteria) else "meets the most criteria, not all")
+    return lines + ["", *details, "",
+                    f"Best setting by the rule: **{best.four[0]} vs {best.three[0]}**, "
+                    f"{sum(c.met for c in criteria)} of {len(criteria)} criteria ({verdict}).\n"]
 
 
 def best_setting(spec: SweepSpec, rows: list[dict]) -> tuple[Setting, list[Criterion]] | None:

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import UsageError
+from ..runs import ensure_writable, write_atomically
 from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
@@ -43,16 +45,28 @@ class Analysis:
         return Windows(self.spec.config.evolution.generations)
 
 
+def report_paths(out: Path, report: Path | None = None, figures: Path | None = None
+                 ) -> tuple[Path, Path]:
+    """Where the report and its figures go (default: OUT/report.md and the report's
+    folder/figures), checked to be writable: a bad path is refused before the work, not after."""
+    report = Path(report) if report else Path(out) / "report.md"
+    figures = Path(figures) if figures else report.parent / "figures"
+    for folder in (report.parent, figures):
+        ensure_writable(folder)
+    if report.is_dir():
+        raise UsageError(f"cannot write the report to {report}: it is a folder")
+    return report, figures
+
+
 def build_report(out: Path, report: Path | None = None, figures: Path | None = None,
                  sweeps: list[Path] = ()) -> tuple[Path, list[str]]:
     """Analyse a study folder and write the report and figures (with a section on each sweep
-    folder given); returns (report path, notes about gaps). Raises errors.ResultsError for
-    folders that cannot be analysed."""
+    folder given); returns (report path, notes about gaps). Raises ResultsError for a folder
+    that cannot be analysed and UsageError for a report or figures folder that cannot be
+    written, both before any work."""
     out = Path(out)
     spec, groups = load_study(out)
-    report = Path(report) if report else out / "report.md"
-    figures = Path(figures) if figures else report.parent / "figures"
-    report.parent.mkdir(parents=True, exist_ok=True)
+    report, figures = report_paths(out, report, figures)
     lesions = {name: lesion_study(group["normal"].run_dirs) if "normal" in group else []
                for name, group in groups.items()}
     G = spec.config.evolution.generations
@@ -70,7 +84,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
                         {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
                         [Path(s) for s in sweeps], report.parent, optimizers)
-    report.write_text(markdown(analysis), encoding="utf-8")
+    write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes

@@ -16,7 +16,6 @@ same numbers as an uninterrupted one.
 """
 from __future__ import annotations
 
-import csv
 import json
 import os
 import time
@@ -29,7 +28,9 @@ import numpy as np
 from ..config import CONDITIONS, Config, ConfigError
 from ..errors import ResultsError
 from ..evolution import Evaluator
-from ..runs import RunData, evolve_into, finished_generations, replay, run_folder
+from ..runs import (METRIC_COLUMNS, RunData, append_row, cut_table, evolve_into,
+                    finished_generations, read_json_object, replay, run_folder, start_table,
+                    stored_whole_number, table_rows, write_atomically)
 from .measures import BEHAVIOUR_COLUMNS, behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
@@ -103,26 +104,31 @@ class StudySpec:
 
     @classmethod
     def load(cls, out: Path) -> "StudySpec":
+        """The spec of a study folder, or ResultsError saying what is wrong with study.json."""
         path = Path(out) / "study.json"
         if not Path(out).is_dir():
             raise ResultsError(f"results folder {out} does not exist (make one with: econet study "
-                             f"--out {out})")
+                               f"--out {out})")
         if not path.exists():
             raise ResultsError(f"{out} is not a study results folder: study.json is missing "
-                             "(make one with: econet study)")
-        try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as error:
-            raise ResultsError(f"{path} is not valid JSON ({error})") from None
+                               "(make one with: econet study)")
+        data = read_json_object(path)
         if data.get("format") != STUDY_FORMAT:
             raise ResultsError(f"{path} has format {data.get('format')!r}; this version reads "
-                             f"{STUDY_FORMAT!r} (re-run econet study into a new folder)")
+                               f"{STUDY_FORMAT!r} (re-run econet study into a new folder)")
         try:
-            config = Config.from_dict(data["config"])
-        except (ConfigError, KeyError, TypeError) as error:
-            raise ResultsError(f"{path} holds an unreadable config: {error}") from None
-        return cls(config, int(data["runs"]), int(data["seed"]), dict(data.get("variants", {})),
-                   data.get("variant_runs"))
+            config = Config.from_dict(data.get("config"))
+            variants = data.get("variants", {})
+            if not isinstance(variants, dict):
+                raise ConfigError(f"variants must be a JSON object, got {variants!r}")
+            for changes in variants.values():
+                config.replace(**changes)
+        except (ConfigError, TypeError) as error:
+            raise ResultsError(f"{path} holds unreadable settings: {error}") from None
+        variant_runs = None if data.get("variant_runs") is None else \
+            stored_whole_number(data, "variant_runs", 1, path)
+        return cls(config, stored_whole_number(data, "runs", 1, path),
+                   stored_whole_number(data, "seed", 0, path), variants, variant_runs)
 
 
 def conditions_for(variant_changes: dict | None) -> tuple[str, ...]:
@@ -168,52 +174,24 @@ def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
     trials = config.evolution.trials
     path = Path(run_dir) / BEHAVIOUR_FILE
 
+    def record(result) -> None:
+        row = behaviour_row(result.trace, result.generation, result.parents, trials)
+        append_row(path, [row[c] for c in BEHAVIOUR_COLUMNS])
+
     def repair(done: int) -> None:
-        """Keep the rows metrics.csv confirms; replay the generations whose row is missing."""
-        rows = _read_rows(path, BEHAVIOUR_COLUMNS)[:done]
-        _write_rows(path, BEHAVIOUR_COLUMNS, rows)
-        for generation in range(len(rows), done):
-            result = replay(run_dir, generation, evaluator=evaluator)
-            _append_row(path, BEHAVIOUR_COLUMNS,
-                        behaviour_row(result.trace, generation, result.parents, trials))
+        """Keep the rows metrics.csv confirms (a missing or damaged behaviour.csv is started
+        again); replay the generations whose row is missing."""
+        try:
+            kept = min(len(table_rows(path, BEHAVIOUR_COLUMNS)), done)
+        except ResultsError:
+            kept = 0
+            start_table(path, BEHAVIOUR_COLUMNS)
+        cut_table(path, kept)
+        for generation in range(kept, done):
+            record(replay(run_dir, generation, evaluator=evaluator))
 
-    def on_generation(result, offspring) -> None:
-        _append_row(path, BEHAVIOUR_COLUMNS,
-                    behaviour_row(result.trace, result.generation, result.parents, trials))
-
-    return evolve_into(run_dir, config, seed, run, evaluator, on_generation, record=True,
-                       on_open=repair)
-
-
-def read_behaviour(path: Path) -> list[dict]:
-    """A behaviour.csv's complete rows (none if it is missing or from another version)."""
-    return _read_rows(path, BEHAVIOUR_COLUMNS)
-
-
-def _read_rows(path: Path, columns: list[str]) -> list[dict]:
-    if not path.exists():
-        return []
-    text = path.read_text(encoding="utf-8")
-    if not text.endswith("\n"):
-        text = text[:text.rfind("\n") + 1]
-    lines = text.splitlines()
-    if not lines or lines[0].split(",") != columns:
-        return []
-    return list(csv.DictReader(lines))
-
-
-def _write_rows(path: Path, columns: list[str], rows: list[dict]) -> None:
-    with open(path, "w", newline="", encoding="utf-8") as handle:
-        writer = csv.DictWriter(handle, columns)
-        writer.writeheader()
-        writer.writerows(rows)
-
-
-def _append_row(path: Path, columns: list[str], row: dict) -> None:
-    with open(path, "a", newline="", encoding="utf-8") as handle:
-        csv.writer(handle).writerow([row[c] for c in columns])
-        handle.flush()
-        os.fsync(handle.fileno())
+    return evolve_into(run_dir, config, seed, run, evaluator, lambda result, _: record(result),
+                       record=True, on_open=repair)
 
 
 def _worker_init() -> None:
@@ -239,7 +217,7 @@ def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) 
     stored = out / "study.json"
     if stored.exists():
         spec = spec.merged_with(StudySpec.load(out))
-    stored.write_text(spec.to_json(), encoding="utf-8")
+    write_atomically(stored, spec.to_json())
     tasks = study_tasks(spec, out)
     total = sum(t[0].evolution.generations for t in tasks)
     started = time.time()
@@ -308,53 +286,55 @@ class ConditionData:
 def load_condition(folder: Path, spec: StudySpec, condition: str, config: Config,
                    runs: int | None = None) -> ConditionData:
     """Read one condition's run folders; gaps are listed in .problems, never hidden."""
-    from ..runs import METRIC_COLUMNS
-
     generations = config.evolution.generations
     folder = Path(folder)
-    problems, run_dirs, done = [], [], []
-    metric_rows, behaviour_rows = [], []
+    problems, run_dirs, done, metric_rows, behaviour_rows = [], [], [], [], []
     if not folder.is_dir():
         problems.append(f"{folder} is missing (no {condition} runs)")
-    runs = runs or spec.runs
-    for run in range(1, runs + 1):
+    for run in range(1, (runs or spec.runs) + 1) if folder.is_dir() else ():
         path = run_folder(folder, run)
-        if not folder.is_dir():
-            break
         if not (path / "run.json").exists():
             problems.append(f"{path.name}: missing (no run.json)")
             continue
-        try:
-            data = RunData(path)
-        except (ResultsError, ValueError, KeyError, OSError) as error:
-            raise ResultsError(f"{path}: {error} (old or damaged run folder; re-run econet study "
-                             "into a new folder)") from None
-        if data.config.evolution.condition != condition:
-            raise ResultsError(f"{path} holds a {data.config.evolution.condition} run, expected "
-                             f"{condition}")
-        brows = _read_rows(path / BEHAVIOUR_FILE, BEHAVIOUR_COLUMNS)
-        if (path / BEHAVIOUR_FILE).exists() and not brows and data.generations_done:
-            header = (path / BEHAVIOUR_FILE).read_text(encoding="utf-8").split("\n", 1)[0]
-            if header.split(",") != BEHAVIOUR_COLUMNS:
-                raise ResultsError(f"{path / BEHAVIOUR_FILE} has columns from another version; "
-                                 "re-run econet study on this folder to rebuild it")
-        if not (path / BEHAVIOUR_FILE).exists():
+        data, behaviour = _read_run(path, condition)
+        if behaviour is None:
             problems.append(f"{path.name}: behaviour.csv missing (re-run econet study to make it)")
-        brows = brows[:data.generations_done]
+            behaviour = np.empty((0, len(BEHAVIOUR_COLUMNS)))
         if data.generations_done < generations:
             problems.append(f"{path.name}: {data.generations_done} of {generations} generations")
-        elif len(brows) < data.generations_done and (path / BEHAVIOUR_FILE).exists():
-            problems.append(f"{path.name}: behaviour for {len(brows)} of "
+        elif len(behaviour) < data.generations_done and (path / BEHAVIOUR_FILE).exists():
+            problems.append(f"{path.name}: behaviour for {len(behaviour)} of "
                             f"{data.generations_done} generations")
         run_dirs.append(path)
         done.append(data.generations_done)
         metric_rows.append(data.metrics)
-        behaviour_rows.append(brows)
+        behaviour_rows.append(behaviour)
     metrics = {c: _stack([m[c] for m in metric_rows], generations) for c in METRIC_COLUMNS}
-    behaviour = {c: _stack([np.array([float(r[c]) for r in rows]) for rows in behaviour_rows],
-                           generations) for c in BEHAVIOUR_COLUMNS}
+    behaviour = {c: _stack([rows[:, i] for rows in behaviour_rows], generations)
+                 for i, c in enumerate(BEHAVIOUR_COLUMNS)}
     return ConditionData(condition, folder, generations, metrics, behaviour, done, run_dirs,
                          problems)
+
+
+def _read_run(path: Path, condition: str) -> tuple[RunData, np.ndarray | None]:
+    """One run folder of a study and its behaviour rows (those metrics.csv confirms; None
+    without behaviour.csv); ResultsError, saying how to redo it, for a damaged one."""
+    try:
+        data = RunData(path)
+    except ResultsError as error:
+        raise ResultsError(f"{error} (a damaged run: remove {path} and run the same econet "
+                           "study command again to redo it)") from None
+    if data.config.evolution.condition != condition:
+        raise ResultsError(f"{path} holds a {data.config.evolution.condition} run, expected "
+                           f"{condition}")
+    if not (path / BEHAVIOUR_FILE).exists():
+        return data, None
+    try:
+        rows = table_rows(path / BEHAVIOUR_FILE, BEHAVIOUR_COLUMNS)
+    except ResultsError as error:
+        raise ResultsError(f"{error}; run the same econet study command again to rebuild "
+                           "it") from None
+    return data, rows[:data.generations_done]
 
 
 def _stack(series: list[np.ndarray], generations: int) -> np.ndarray:

@@ -14,10 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ResultsError
-from ..runs import RunData
+from ..runs import RunData, table_rows
 from .measures import BEHAVIOUR_COLUMNS
 from .stats import estimate, paired
-from .study import read_behaviour
 from .regime import regime_markdown
 from .sweep import SweepSpec, comparison_pairs, load_sweep, values
 
@@ -57,12 +56,16 @@ def window(generations: int, name: str) -> slice:
 
 
 def run_series(folder: Path) -> dict[str, np.ndarray]:
-    """Every per-generation column of a run: metrics.csv, and behaviour.csv when present."""
+    """Every per-generation column of a run: metrics.csv, and behaviour.csv when it is there
+    and of this version (NaN columns otherwise)."""
     data = RunData(folder)
     series = dict(data.metrics)
-    rows = read_behaviour(folder / "behaviour.csv")[:data.generations_done]
-    for column in BEHAVIOUR_COLUMNS:
-        series.setdefault(column, np.array([float(r[column]) for r in rows]) if rows
+    try:
+        rows = table_rows(folder / "behaviour.csv", BEHAVIOUR_COLUMNS)[:data.generations_done]
+    except ResultsError:
+        rows = np.full((0, len(BEHAVIOUR_COLUMNS)), np.nan)
+    for i, column in enumerate(BEHAVIOUR_COLUMNS):
+        series.setdefault(column, rows[:, i] if len(rows) == data.generations_done
                           else np.full(data.generations_done, np.nan))
     return series
 

@@ -40,7 +40,8 @@ def evolve_run(config: dict, seed: int, behaviour: bool) -> dict[str, bytes]:
             run_with_behaviour(settings, seed, 1, folder)
         else:
             evolve_into(folder, settings, seed, 1)
-        return {path.name: path.read_bytes() for path in sorted(folder.iterdir())}
+        return {path.name: path.read_bytes() for path in sorted(folder.iterdir())
+                if not path.name.startswith(".")}             # results, not the run's lock
 
 
 def write_run(folder: Path, files: dict[str, bytes]) -> None:

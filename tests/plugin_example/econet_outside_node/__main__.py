@@ -1,0 +1,5 @@
+import sys
+
+from econet_outside_node import main
+
+sys.exit(main())
