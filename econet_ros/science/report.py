@@ -19,9 +19,10 @@ from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
+from .optimizers import Comparison
 from .series import Windows, fmt
 from .stats import estimate
-from .study import ConditionData, StudySpec, load_study
+from .study import ConditionData, StudySpec, load_study, optimizer_only
 
 
 @dataclass
@@ -37,6 +38,7 @@ class Analysis:
     figures: dict[str, str]                        # name -> path relative to the report
     sweeps: list[Path] = dataclasses.field(default_factory=list)   # summarised in the report
     folder: Path = Path(".")                                       # where the report is
+    optimizers: Comparison | None = None           # the optimizer variants, when run
 
     @property
     def windows(self) -> Windows:
@@ -72,10 +74,16 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     claims = {name: evaluate({**groups["base"], **group}, lesions[name], G,
                              nulls=name == "base")
               for name, group in groups.items()}
-    files = make_figures(groups, lesions["base"], figures)
-    analysis = Analysis(out, spec, groups, gaps(groups), lesions, claims,
+    optimizers = Comparison.of(spec, groups, claims)
+    # the optimizer variants have their own section; the sensitivity section is the others'
+    kept = [name for name in groups if not optimizer_only(spec.variants.get(name))]
+    sensitivity = {name: groups[name] for name in kept}
+    files = make_figures(sensitivity, lesions["base"], figures,
+                         optimizers.drawings() if optimizers else ())
+    analysis = Analysis(out, spec, sensitivity, gaps(groups), lesions,
+                        {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
-                        [Path(s) for s in sweeps], report.parent)
+                        [Path(s) for s in sweeps], report.parent, optimizers)
     write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
@@ -114,7 +122,8 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _regime, _claims, _performance,
-                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _sweeps)
+                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _optimizers,
+                _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -343,6 +352,8 @@ def _variants(analysis: Analysis) -> list[str]:
              "ignores network sizes; the three-layer net ignores the four-layer hidden "
              "sizes).\n"]
     for name, changes in analysis.spec.variants.items():
+        if name not in analysis.groups:
+            continue            # an optimizer variant: see _optimizers
         setting = ", ".join(f"{k}={v}" for k, v in changes.items())
         ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in analysis.groups[name].items())
         missing = [p for d in analysis.groups[name].values() for p in d.problems]
@@ -364,6 +375,11 @@ def _verdicts_by_setting(analysis: Analysis) -> list[str]:
     return ["| claim | " + " | ".join(names) + " |", "|---|" + "---|" * len(names), *rows, "",
             f"Same verdict under every setting: {', '.join(same) or 'none'}.\n",
             f"Verdict depends on the setting: {', '.join(differ) or 'none'}.\n"]
+
+
+def _optimizers(analysis: Analysis) -> list[str]:
+    """The GA against CMA-ES and the ES, when the study ran them (econet study --optimizers)."""
+    return analysis.optimizers.markdown(analysis.figures) if analysis.optimizers else []
 
 
 def _sweeps(analysis: Analysis) -> list[str]:
