@@ -213,7 +213,9 @@ def _claims(analysis: Analysis) -> list[str]:
             f"passing. The last columns check each rule against two nulls: its verdict with "
             f"random movement in the normal condition's place, and how often it says "
             f"'replicates' on {SHUFFLES} time-shuffled copies of the data (both should be "
-            f"low; '-' where a claim does not read the normal condition's time course). "
+            f"low; '-' where a null cannot test the rule: shuffling only tests claims about a "
+            f"time course, a level that holds all through training survives it, and the random "
+            f"null only claims that read the normal condition). "
             f"Machine-readable: claims.csv beside this report.\n",
             _claims_table(results, nulls=True), f"\nTally: {tally}.\n"]
 
