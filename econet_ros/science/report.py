@@ -8,6 +8,7 @@ import dataclasses
 import gzip
 import io
 import os
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -84,10 +85,30 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
                         {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
                         [Path(s) for s in sweeps], report.parent, optimizers)
+    for folder in analysis.sweeps:
+        publish_sweep(folder, report.parent / "sweeps")
     write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes
+
+
+SWEEP_FILES = ("summary.md", "outcomes.csv", "comparisons.csv")
+
+
+def publish_sweep(folder: Path, into: Path) -> Path:
+    """A sweep's report (econet sweep report: summary, tables, figures) copied beside the study
+    report, so the published report links to files that are there."""
+    from .sweep import load_sweep
+    from .sweep_report import build_sweep_report
+    build_sweep_report(folder)
+    target = into / load_sweep(folder).name
+    (target / "figures").mkdir(parents=True, exist_ok=True)
+    for name in SWEEP_FILES:
+        shutil.copyfile(folder / name, target / name)
+    for figure in (folder / "figures").glob("*.png"):
+        shutil.copyfile(figure, target / "figures" / figure.name)
+    return target
 
 
 def write_tables(path: Path, groups: dict[str, dict[str, ConditionData]]) -> None:
@@ -396,7 +417,8 @@ def _sweeps(analysis: Analysis) -> list[str]:
              "each sweep; every sweep's full tables and figures are in its own summary.\n"]
     for folder in analysis.sweeps:
         spec = load_sweep(folder)
-        summary = os.path.relpath(folder / "summary.md", analysis.folder)
+        summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
+                                  analysis.folder)
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
         rule = regime_markdown(spec, tidy_rows(spec, folder))
