@@ -5,6 +5,12 @@ import hashlib as _hashlib
 import os as _os
 from pathlib import Path as _Path
 
+# One BLAS thread, unless set otherwise: the package's linear algebra is small (CMA-ES's 160 x 160
+# covariance), and BLAS threads only contend with the compiled kernels' threads, which made
+# CMA-ES's update ten times slower on a busy two-core machine. This takes effect only when
+# econet_ros is imported before numpy (as by `econet` and `python -m econet_ros`).
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
 # numba's cache=True revalidates a cached kernel only by the timestamp of the file that defines
 # it, not of the files whose functions it inlines (world.py's physics and controllers.py's
 # network run inside trials.py's whole-trial kernel), so after an edit or an update a stale

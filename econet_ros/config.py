@@ -22,6 +22,7 @@ MUTATIONS = ("per-bit", "exact", "weights")         # genome.mutate's modes
 CODES = ("binary", "gray")                          # genome.decode's codes
 BODY_AXES = ("unbounded", "within-360")
 SHOULDER_CONVENTIONS = ("centred", "forward")
+OPTIMIZERS = ("ga", "cmaes", "es")                  # optimizers.py
 
 
 def setting(default: Any, help: str, *, paper: bool = False, choices: tuple | None = None,
@@ -113,6 +114,16 @@ class EvolutionConfig:
                                "binary, or gray (neighbouring points differ in one bit)",
                                choices=CODES, added=True)
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
+    optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
+                             "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
+                             "es (an OpenAI-style evolution strategy); docs/gym.md",
+                             choices=OPTIMIZERS, added=True)
+    cmaes_sigma: float = setting(3.0, "cmaes: initial step size, in weight units (chosen "
+                                 "by a pilot; docs/gym.md)", low=1e-6, added=True)
+    es_sigma: float = setting(1.0, "es: standard deviation of the perturbations, in weight "
+                              "units (chosen by a pilot; docs/gym.md)", low=1e-6, added=True)
+    es_learning_rate: float = setting(0.3, "es: Adam's step size, in weight units (chosen by "
+                                      "a pilot; docs/gym.md)", low=1e-9, added=True)
 
 
 SECTIONS = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}
@@ -241,6 +252,9 @@ class Config:
              "reach_min/reach_max must satisfy 0 <= reach_min <= reach_max <= arm length + radius"),
             (m.visual_units * m.windows_per_unit == round(m.field_of_view_deg),
              "visual_units x windows_per_unit must equal the field of view in degrees"),
+            (e.optimizer != "es" or e.population % 2 == 0,
+             f"the es optimizer tests antithetic pairs: population must be even, got "
+             f"{e.population}"),
         ]
         for ok, message in checks:
             if not ok:

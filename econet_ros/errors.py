@@ -20,6 +20,10 @@ class SetupError(EconetError, ValueError):
     """Trial starts the world cannot take (object out of reach, joint outside its range...)."""
 
 
+class ActionError(EconetError, ValueError):
+    """A motor command the world cannot apply (wrong shape, NaN or infinite values)."""
+
+
 class PluginError(EconetError, ValueError):
     """A controller name that cannot be used."""
 

@@ -7,7 +7,8 @@ with mutation (genome.mutate; which reading of the paper, config evolution.mutat
 Every random draw comes from a stream named by (seed, run, generation, purpose), so a run is a
 pure function of its seed and can resume from any finished generation.
 The loop that runs generations into a result folder is ``runs.evolve_into``; an ``Evaluator``
-is what it tests populations with (this in-process one, or the node graph's).
+is what it tests populations with (this in-process one, or the node graph's), and an optimizer
+(optimizers.py: this GA, or CMA-ES or an evolution strategy in its place) what breeds them.
 """
 from __future__ import annotations
 
@@ -22,8 +23,9 @@ from .plugins import make_controller
 from .trials import TrialMeasures, Trace, run_trials
 from .world import TrialSetup, World, sample_setups
 
-# Purposes of the random streams of one generation.
-_SETUPS, _MUTATION, _NOISE, _INITIAL = range(4)
+# Purposes of the random streams of one generation; SEARCH is the one stream of a whole run that
+# CMA-ES and the evolution strategy sample from (optimizers.py; taken at generation 0).
+_SETUPS, _MUTATION, _NOISE, _INITIAL, SEARCH = range(5)
 
 
 def rng_for(seed: int, run: int, generation: int, purpose: int) -> np.random.Generator:

@@ -37,7 +37,8 @@ from tqdm import tqdm
 from . import genome as genome_codes
 from .config import Config, ConfigError
 from .errors import ResultsError, UsageError
-from .evolution import Evaluator, GenerationResult, initial_genomes, next_generation
+from .evolution import Evaluator, GenerationResult
+from .optimizers import make_optimizer
 
 FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
@@ -104,6 +105,10 @@ class RunStore:
         with writing(self.path, then=RESUME):
             self._hold_writers(arrays)
         return done, np.array(arrays["genomes"][done])
+
+    def fitness_rows(self, generations: int) -> np.ndarray:
+        """The stored fitness of the first ``generations`` generations."""
+        return np.array(np.load(self.path / "fitness.npy", mmap_mode="r")[:generations])
 
     def _recorded_generations(self) -> int | None:
         """Finished generations (a torn last metrics row is cut off), or None while the folder
@@ -320,18 +325,22 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
                 record: bool = False, on_open: Callable[[int], None] | None = None) -> int:
     """Evolve one run into ``folder``, resuming from its last finished generation.
 
-    Each generation is tested by ``evaluator`` (default: in process), its offspring bred, and
-    both written before ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears
-    how many generations the folder already held. Returns the run's generation count."""
+    Each generation is tested by ``evaluator`` (default: in process), the next one bred by the
+    configured optimizer (optimizers.py), and both written before
+    ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears how many generations
+    the folder already held. Returns the run's generation count."""
     evaluator = evaluator or Evaluator(config)
     n_weights = evaluator.n_weights
+    optimizer = make_optimizer(config, n_weights, seed, run)
     with RunStore(folder, config, seed, run, n_weights) as store:
-        done, genomes = store.open(lambda: initial_genomes(config, n_weights, seed, run))
+        done, genomes = store.open(optimizer.first_generation)
+        if done:
+            optimizer.catch_up(store.fitness_rows(done), genomes)
         if on_open:
             on_open(done)
         for generation in range(done, config.evolution.generations):
             result = evaluator.test_generation(genomes, seed, run, generation, record)
-            genomes = next_generation(config, result, seed, run)
+            genomes = optimizer.breed(result)
             store.write(result, genomes)
             if on_generation:
                 on_generation(result, genomes)

@@ -44,7 +44,7 @@ import numpy as np
 
 from .config import ModelConfig
 from .elementary import ATAN2_ERROR, atan2_approx, cos_sin_deg
-from .errors import SetupError
+from .errors import ActionError, SetupError
 
 N_MOTOR = 5
 N_PROPRIO = 4
@@ -210,18 +210,39 @@ class World:
                            self.senses[:, units:units + N_PROPRIO], self.senses[:, -1],
                            self.fixated)
 
+    def restart(self, envs: np.ndarray, setup: TrialSetup) -> Observation:
+        """Start new trials in the environments ``envs`` only, from ``setup`` (one start per
+        index, checked as by reset); the others carry on. Their senses are taken afresh, into
+        new arrays as every cycle's."""
+        envs = np.asarray(envs, dtype=np.int64)
+        if len(setup) != len(envs):
+            raise SetupError(f"restart needs {len(envs)} trial setups, got {len(setup)}")
+        check_setup(setup, self.model)
+        self.body[envs], self.shoulder[envs], self.elbow[envs] = \
+            setup.body, setup.shoulder, setup.elbow
+        self.body_start[envs] = setup.body
+        self.object_xy[envs] = setup.object_xy
+        senses, fixated = np.empty((len(envs), self.senses.shape[1])), np.empty(len(envs), bool)
+        _sense_batch(self.body[envs], self.shoulder[envs], self.elbow[envs],
+                     self.object_xy[envs], self.geometry, self.edges[0], self.edges[1], senses,
+                     fixated)
+        self.senses, self.fixated = self.senses.copy(), self.fixated.copy()
+        self.senses[envs], self.fixated[envs] = senses, fixated
+        return self.observe()
+
     def step(self, motor: np.ndarray) -> Observation:
         """Apply one motor command per environment (clipped to [0, 1]), advance one cycle,
-        sense again."""
+        sense again. A command of the wrong shape, or with NaN or infinite values, raises
+        ActionError and changes nothing."""
         motor = np.asarray(motor, dtype=np.float64)
         if motor.shape != (self.n_envs, N_MOTOR):
-            raise ValueError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "
-                             f"got {motor.shape}")
+            raise ActionError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "
+                              f"got {motor.shape}")
         senses, fixated = self._new_senses()
         if not _step_batch(self.body, self.shoulder, self.elbow, motor, self.object_xy,
                            self.geometry, self.edges[0], self.edges[1], senses, fixated,
                            self.body_start):
-            raise ValueError("motor command contains NaN or infinite values")
+            raise ActionError("motor command contains NaN or infinite values")
         self.senses, self.fixated = senses, fixated
         self.cycle += 1
         return self.observe()

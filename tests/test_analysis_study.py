@@ -70,6 +70,7 @@ def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
     assert all(any(v in line for v in ("replicates", "partly", "does not", "n/a"))
                for line in table)
     assert "All runs of all conditions are complete" in text
+    assert "the algorithm's?" not in text          # no optimizer variants, no such section
 
 
 def test_claims_table_is_judged_claim_by_claim_in_order(tiny_study):

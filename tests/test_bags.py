@@ -226,13 +226,14 @@ def test_recorder_says_recording_once_matched_and_keeps_every_trial_start(ros, t
     spin_until(executor, lambda: "waiting for publishers of" in log.read_text(),
                what="the recorder to start waiting")
     assert "recording trial_start" not in log.read_text()
+    heard = []
+    touch = node.create_subscription(Touch, "touch", lambda m: heard.append((m.trial, m.cycle)),
+                                     common.LOCKSTEP_QOS)
     procs.start("world", ns)
     procs.start("controller", ns, "controller:=reacher")
-    heard = []
-    node.create_subscription(Touch, "touch", lambda m: heard.append((m.trial, m.cycle)),
-                             common.LOCKSTEP_QOS)
-    spin_until(executor, lambda: "recording trial_start" in log.read_text(),
-               what="the recorder to say it is recording")
+    spin_until(executor, lambda: "recording trial_start" in log.read_text()
+               and touch.get_publisher_count() > 0,
+               what="the recorder to say it is recording, and the probe to hear the world")
     call(executor, node.create_client(SetWeights, "set_weights"),
          SetWeights.Request(n_envs=3, weights_per_network=0))
     reset = node.create_client(ResetTrials, "reset_trials")

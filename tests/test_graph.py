@@ -177,14 +177,15 @@ def test_lockstep_world_steps_once_per_matching_command(procs, ros):
     _, log = procs.start("world", "/solo")
     node = make_node(ros, "solo_probe", "/solo")
     heard = []
-    node.create_subscription(Proprioception, "proprioception", heard.append,
-                             common.LOCKSTEP_QOS)
+    sensed = node.create_subscription(Proprioception, "proprioception", heard.append,
+                                      common.LOCKSTEP_QOS)
     pub = node.create_publisher(MuscleCommand, "muscle_command", common.LOCKSTEP_QOS)
     model = Config().model
     setup = TrialSetup(np.array([[20.0, 5.0], [0.0, -30.0]]), np.array([10.0, 200.0]),
                        np.array([90.0, 30.0]), np.array([45.0, 170.0]))
     reset = node.create_client(ResetTrials, "reset_trials")
-    spin_until(ros, lambda: pub.get_subscription_count() > 0, what="the world's subscription")
+    spin_until(ros, lambda: pub.get_subscription_count() > 0 and sensed.get_publisher_count() > 0,
+               what="the world, matched both ways")
     reply = call(ros, reset, ResetTrials.Request(
         n_envs=2, cycles=10, object_xy=common.f64(setup.object_xy), body_deg=common.f64(setup.body),
         shoulder_deg=common.f64(setup.shoulder), elbow_deg=common.f64(setup.elbow)))
@@ -262,8 +263,9 @@ def test_lockstep_under_load_no_cycle_skipped_or_repeated(graph, ros):
     """A busy process hogs a core while the graph runs trials: every trial's sensor
     cycles still arrive exactly once each, in order."""
     retina = []
-    graph.create_subscription(Retina, "retina", lambda m: retina.append((m.trial, m.cycle)),
-                              common.LOCKSTEP_QOS)
+    sensed = graph.create_subscription(
+        Retina, "retina", lambda m: retina.append((m.trial, m.cycle)), common.LOCKSTEP_QOS)
+    spin_until(ros, lambda: sensed.get_publisher_count() > 0, what="the world's retina")
     reset = graph.create_client(ResetTrials, "reset_trials")
     weights = graph.create_client(SetWeights, "set_weights")
     k = Evaluator(small_config()).n_weights

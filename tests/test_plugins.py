@@ -112,8 +112,9 @@ def test_outside_package_controller_through_the_node(ros):
     node = rclpy.create_node("plug_probe", namespace=ns)
     executor.add_node(node)
     commands = []
-    node.create_subscription(MuscleCommand, "muscle_command", commands.append,
-                             common.LOCKSTEP_QOS)
+    answers = node.create_subscription(MuscleCommand, "muscle_command", commands.append,
+                                       common.LOCKSTEP_QOS)
+    spin_until(executor, lambda: answers.get_publisher_count() > 0, what="the plug-in's commands")
     config = Config()
     n = 3
     weights = np.random.default_rng(4).uniform(-2, 2, (n, 65))
@@ -160,8 +161,9 @@ def test_reacher_through_the_graph_and_bad_name_at_the_node(ros):
     node = rclpy.create_node("reach_probe", namespace=ns)
     executor.add_node(node)
     touch = {}
-    node.create_subscription(Touch, "touch", lambda m: touch.setdefault(
+    sensed = node.create_subscription(Touch, "touch", lambda m: touch.setdefault(
         (m.trial, m.cycle), common.as_u8(m.contact).copy()), common.LOCKSTEP_QOS)
+    spin_until(executor, lambda: sensed.get_publisher_count() > 0, what="the world's touch")
     n, cycles = 12, 100
     reply = call(executor, node.create_client(SetWeights, "set_weights"), SetWeights.Request(
         n_envs=n, weights_per_network=0, network="reacher"))

@@ -259,3 +259,14 @@ def test_compare_pairs_sweep_cells_by_seed_and_refuses_a_bare_study(swept, tmp_p
     assert rows["top_fitness", "late"]["paired"] == "True"
     assert main(["compare", str(out), str(a)]) == 2
     assert "holds no run folders" in capsys.readouterr().err
+
+
+def test_a_published_sweep_carries_its_summary_tables_and_figures(swept, tmp_path):
+    from econet_ros.science.report import publish_sweep
+    _, out, _ = swept
+    target = publish_sweep(out, tmp_path / "sweeps")
+    assert target == tmp_path / "sweeps" / "tiny"
+    assert (target / "summary.md").read_text() == (out / "summary.md").read_text()
+    assert (target / "outcomes.csv").read_bytes() == (out / "outcomes.csv").read_bytes()
+    for link in ("figures/outcomes.png", "figures/gallery.png"):        # the summary's links
+        assert link in (target / "summary.md").read_text() and (target / link).is_file()

@@ -12,7 +12,7 @@ from ..config import CONDITIONS
 from ..errors import UsageError
 from ..runs import locked
 from ..science.report import build_report, report_paths
-from ..science.study import SENSITIVITY, StudySpec, run_study
+from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, StudySpec, run_study
 from .options import add_config_options, add_run_options, config_from, positive
 
 
@@ -32,6 +32,12 @@ def add_parser(commands) -> None:
                             "existing study folder later")
     study.add_argument("--sensitivity-runs", type=positive, metavar="N",
                        help="runs per sensitivity variant (default: --runs)")
+    study.add_argument("--optimizers", action="store_true",
+                       help="also evolve the normal condition with CMA-ES and with an "
+                            "evolution strategy (--runs runs each, paired with the GA's normal "
+                            "runs) for the report's section 'Are the constraints the task's or "
+                            "the algorithm's?' (docs/gym.md); may be added to an existing "
+                            "study folder later")
     _add_report_options(study, "OUT")
     add_config_options(study, ("evolution", "network", "model"), skip=("evolution.condition",))
     study.set_defaults(handler=run)
@@ -67,6 +73,9 @@ def run(args: argparse.Namespace) -> int:
         else:
             raise UsageError(f"unknown sensitivity variant '{name}' (choose from "
                              f"{', '.join(SENSITIVITY)}, all)")
+    sensitivity = bool(variants)
+    if args.optimizers:
+        variants.update(OPTIMIZER_VARIANTS)
     for changes in variants.values():
         config.replace(**changes)          # fail now on a variant that cannot work
     out = Path(args.out)
@@ -77,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
             (out / "study.json").unlink(missing_ok=True)
         report_paths(out, args.report, args.figures)
         spec = StudySpec(config, args.runs, args.seed, variants,
-                         args.sensitivity_runs if variants else None)
+                         args.sensitivity_runs if sensitivity else None)
         seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
         print(f"evolution: {seconds / 60:.1f} min")
         return report(out, args.report, args.figures, args.sweep)

@@ -60,7 +60,8 @@ class _Scene:
         ax.plot([0], [0], "ko", ms=5)
         self.label = ax.set_title("")
 
-    def show(self, t: int):
+    def show(self, t: int, cycle: int | None = None):
+        """Draw state t, labelled as cycle ``cycle`` (default t)."""
         half_fov = self.model.field_of_view_deg / 2
         body = self.frames.body[t]
         self.field.set_theta1(body - half_fov)
@@ -70,7 +71,8 @@ class _Scene:
         self.hand.set_data(p[2:, 0], p[2:, 1])
         touching = bool(self.frames.touch[t])
         self.object.set_color("tab:red" if touching else "tab:blue")
-        self.label.set_text(f"cycle {t}" + (" - contact" if touching else ""))
+        self.label.set_text(f"cycle {t if cycle is None else cycle}"
+                            + (" - contact" if touching else ""))
         return self.field, self.arm, self.hand, self.object, self.label
 
 
@@ -82,6 +84,17 @@ def animate(frames: TrialFrames, model: ModelConfig, path: Path, fps: int = 10) 
     animation.save(str(path), writer=PillowWriter(fps=fps))
     plt.close(fig)
     return Path(path)
+
+
+def rgb_image(frames: TrialFrames, model: ModelConfig, t: int, cycle: int) -> np.ndarray:
+    """State t as an RGB image (320, 320, 3) of uint8, labelled as cycle ``cycle`` (for
+    Gymnasium's rgb_array render mode)."""
+    fig, ax = plt.subplots(figsize=(4, 4), dpi=80)
+    _Scene(ax, frames, model).show(t, cycle)
+    fig.canvas.draw()
+    image = np.array(fig.canvas.buffer_rgba())[..., :3]
+    plt.close(fig)
+    return image
 
 
 def filmstrip(frames: TrialFrames, model: ModelConfig, path: Path, panels: int = 10) -> Path:

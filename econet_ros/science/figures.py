@@ -4,6 +4,7 @@ make_figures writes them as PNG files. Curves are the mean over runs with a ±1 
 every run's own curve as a thin line. ROS-free."""
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import matplotlib
@@ -24,10 +25,12 @@ WORKSPACE = 55            # half-width of the lesion panels (workspace units)
 
 
 def make_figures(groups: dict[str, dict[str, ConditionData]], lesion: list[dict],
-                 folder: Path) -> dict[str, Path]:
-    """Write every figure the study allows into folder; returns {name: PNG path}."""
+                 folder: Path, more=()) -> dict[str, Path]:
+    """Write every figure the study allows, and the (name, figure) pairs of ``more``, into
+    folder; returns {name: PNG path}."""
     folder.mkdir(parents=True, exist_ok=True)
-    return {name: _save(fig, folder / f"{name}.png") for name, fig in _drawings(groups, lesion)}
+    return {name: _save(fig, folder / f"{name}.png")
+            for name, fig in itertools.chain(_drawings(groups, lesion), more)}
 
 
 def _drawings(groups, lesion):

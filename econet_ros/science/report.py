@@ -8,6 +8,7 @@ import dataclasses
 import gzip
 import io
 import os
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -19,9 +20,10 @@ from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
+from .optimizers import Comparison
 from .series import Windows, fmt
 from .stats import estimate
-from .study import ConditionData, StudySpec, load_study
+from .study import ConditionData, StudySpec, load_study, optimizer_only
 
 
 @dataclass
@@ -37,6 +39,7 @@ class Analysis:
     figures: dict[str, str]                        # name -> path relative to the report
     sweeps: list[Path] = dataclasses.field(default_factory=list)   # summarised in the report
     folder: Path = Path(".")                                       # where the report is
+    optimizers: Comparison | None = None           # the optimizer variants, when run
 
     @property
     def windows(self) -> Windows:
@@ -72,14 +75,40 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     claims = {name: evaluate({**groups["base"], **group}, lesions[name], G,
                              nulls=name == "base")
               for name, group in groups.items()}
-    files = make_figures(groups, lesions["base"], figures)
-    analysis = Analysis(out, spec, groups, gaps(groups), lesions, claims,
+    optimizers = Comparison.of(spec, groups, claims)
+    # the optimizer variants have their own section; the sensitivity section is the others'
+    kept = [name for name in groups if not optimizer_only(spec.variants.get(name))]
+    sensitivity = {name: groups[name] for name in kept}
+    files = make_figures(sensitivity, lesions["base"], figures,
+                         optimizers.drawings() if optimizers else ())
+    analysis = Analysis(out, spec, sensitivity, gaps(groups), lesions,
+                        {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
-                        [Path(s) for s in sweeps], report.parent)
+                        [Path(s) for s in sweeps], report.parent, optimizers)
+    for folder in analysis.sweeps:
+        publish_sweep(folder, report.parent / "sweeps")
     write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"])
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes
+
+
+SWEEP_FILES = ("summary.md", "outcomes.csv", "comparisons.csv")
+
+
+def publish_sweep(folder: Path, into: Path) -> Path:
+    """A sweep's report (econet sweep report: summary, tables, figures) copied beside the study
+    report, so the published report links to files that are there."""
+    from .sweep import load_sweep
+    from .sweep_report import build_sweep_report
+    build_sweep_report(folder)
+    target = into / load_sweep(folder).name
+    (target / "figures").mkdir(parents=True, exist_ok=True)
+    for name in SWEEP_FILES:
+        shutil.copyfile(folder / name, target / name)
+    for figure in (folder / "figures").glob("*.png"):
+        shutil.copyfile(figure, target / "figures" / figure.name)
+    return target
 
 
 def write_tables(path: Path, groups: dict[str, dict[str, ConditionData]]) -> None:
@@ -114,7 +143,8 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _regime, _claims, _performance,
-                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _sweeps)
+                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _optimizers,
+                _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -204,7 +234,9 @@ def _claims(analysis: Analysis) -> list[str]:
             f"passing. The last columns check each rule against two nulls: its verdict with "
             f"random movement in the normal condition's place, and how often it says "
             f"'replicates' on {SHUFFLES} time-shuffled copies of the data (both should be "
-            f"low; '-' where a claim does not read the normal condition's time course). "
+            f"low; '-' where a null cannot test the rule: shuffling only tests claims about a "
+            f"time course, a level that holds all through training survives it, and the random "
+            f"null only claims that read the normal condition). "
             f"Machine-readable: claims.csv beside this report.\n",
             _claims_table(results, nulls=True), f"\nTally: {tally}.\n"]
 
@@ -343,6 +375,8 @@ def _variants(analysis: Analysis) -> list[str]:
              "ignores network sizes; the three-layer net ignores the four-layer hidden "
              "sizes).\n"]
     for name, changes in analysis.spec.variants.items():
+        if name not in analysis.groups:
+            continue            # an optimizer variant: see _optimizers
         setting = ", ".join(f"{k}={v}" for k, v in changes.items())
         ran = ", ".join(f"{c} ({d.n_runs} runs)" for c, d in analysis.groups[name].items())
         missing = [p for d in analysis.groups[name].values() for p in d.problems]
@@ -366,6 +400,11 @@ def _verdicts_by_setting(analysis: Analysis) -> list[str]:
             f"Verdict depends on the setting: {', '.join(differ) or 'none'}.\n"]
 
 
+def _optimizers(analysis: Analysis) -> list[str]:
+    """The GA against CMA-ES and the ES, when the study ran them (econet study --optimizers)."""
+    return analysis.optimizers.markdown(analysis.figures) if analysis.optimizers else []
+
+
 def _sweeps(analysis: Analysis) -> list[str]:
     """Each sweep's decision-rule table and the path to its own summary."""
     if not analysis.sweeps:
@@ -378,7 +417,8 @@ def _sweeps(analysis: Analysis) -> list[str]:
              "each sweep; every sweep's full tables and figures are in its own summary.\n"]
     for folder in analysis.sweeps:
         spec = load_sweep(folder)
-        summary = os.path.relpath(folder / "summary.md", analysis.folder)
+        summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
+                                  analysis.folder)
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
         rule = regime_markdown(spec, tidy_rows(spec, folder))

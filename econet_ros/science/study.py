@@ -6,6 +6,7 @@ Folder layout (OUT = --out):
     OUT/<condition>/run-NN/           a run folder (econet_ros.runs) plus behaviour.csv: one row
                                       per finished generation (measures.BEHAVIOUR_COLUMNS)
     OUT/sensitivity/<variant>/<condition>/run-NN/   the same for each sensitivity variant
+                                      (and the optimizer variants: normal only, --runs runs)
     OUT/report.md, OUT/figures/*.png  written by the analysis step
 
 Every run is resumable: run folders resume from metrics.csv (runs.evolve_into); behaviour.csv is
@@ -44,6 +45,19 @@ SENSITIVITY = {
     "object-radius-4": {"model.object_radius": 4.0},
 }
 
+# The optimizer comparison (econet study --optimizers; science/optimizers.py): the normal
+# condition evolved by CMA-ES and by the evolution strategy; the base study's normal runs are
+# the GA's.
+OPTIMIZER_VARIANTS = {"optimizer-cmaes": {"evolution.optimizer": "cmaes"},
+                      "optimizer-es": {"evolution.optimizer": "es"}}
+OPTIMIZER_SETTINGS = ("evolution.optimizer", "evolution.cmaes_sigma", "evolution.es_sigma",
+                      "evolution.es_learning_rate")
+
+
+def optimizer_only(changes: dict | None) -> bool:
+    """Whether a variant changes the optimizer (or its settings) and nothing else."""
+    return bool(changes) and all(key in OPTIMIZER_SETTINGS for key in changes)
+
 
 @dataclass
 class StudySpec:
@@ -56,7 +70,15 @@ class StudySpec:
     variant_runs: int | None = None      # runs per sensitivity variant (default: runs)
 
     def runs_of(self, group: str) -> int:
-        return self.runs if group == "base" or not self.variant_runs else self.variant_runs
+        """Runs of the base study or a variant: a sensitivity variant has variant_runs, an
+        optimizer variant as many as the base study, whose normal runs it is paired with."""
+        if group == "base" or not self.variant_runs or optimizer_only(self.variants.get(group)):
+            return self.runs
+        return self.variant_runs
+
+    def has_sensitivity_variants(self) -> bool:
+        """Whether any variant runs variant_runs times (see runs_of)."""
+        return any(not optimizer_only(changes) for changes in self.variants.values())
 
     def to_json(self) -> str:
         return json.dumps({"format": STUDY_FORMAT, "config": self.config.to_dict(),
@@ -70,14 +92,14 @@ class StudySpec:
                 and self.seed == stored.seed)
         clash = [n for n in self.variants if n in stored.variants
                  and stored.variants[n] != self.variants[n]]
-        runs_clash = (self.variants and stored.variants and
-                      self.runs_of("v") != stored.runs_of("v"))
+        runs_clash = (self.has_sensitivity_variants() and stored.has_sensitivity_variants()
+                      and (self.variant_runs or self.runs) != (stored.variant_runs or stored.runs))
         if not same or clash or runs_clash:
             raise ResultsError("the results folder holds a study with different settings; "
                               "choose another --out folder or pass --overwrite")
         variants = dict(stored.variants)
         variants.update(self.variants)
-        runs = self.variant_runs if self.variants else stored.variant_runs
+        runs = self.variant_runs if self.has_sensitivity_variants() else stored.variant_runs
         return StudySpec(self.config, self.runs, self.seed, variants, runs)
 
     @classmethod
@@ -113,7 +135,10 @@ def conditions_for(variant_changes: dict | None) -> tuple[str, ...]:
     """Conditions a variant needs. Random movement ignores every network size and the
     three-layer net only depends on three_layer_hidden, so a variant that only changes network
     sizes re-runs just the conditions those sizes affect (the report compares it with the base
-    study's other conditions)."""
+    study's other conditions). The optimizer comparison is made on the default network: a
+    variant that changes only the optimizer runs the normal condition."""
+    if optimizer_only(variant_changes):
+        return ("normal",)
     if not variant_changes or any(not k.startswith("network.") for k in variant_changes):
         return CONDITIONS
     needed = []
