@@ -100,6 +100,32 @@ def regime_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
                     f"{sum(c.met for c in criteria)} of {len(criteria)} criteria ({verdict}).\n"]
 
 
+def verdicts(spec: SweepSpec, rows: list[dict]) -> list[tuple[Setting, bool, bool]]:
+    """(setting, reproduces Figure 3, paper-like) for every setting of a sweep."""
+    return [(s, reproduces(c), paper_like(c))
+            for s in settings(spec) for c in [judge_setting(spec, rows, s)]]
+
+
+def defaults_markdown(judged: list[tuple[Setting, bool, bool]]) -> list[str]:
+    """The rule's choice of defaults over every setting of every sweep (docs/analysis.md,
+    "Choosing the defaults")."""
+    def named(found):
+        return ", ".join(f"{s.four[0]} vs {s.three[0]}" for s in found) or "none"
+    figure3 = [s for s, fig, _ in judged if fig]
+    paper = [s for s, _, like in judged if like]
+    both = [s for s, fig, like in judged if fig and like]
+    lines = ["### Choosing the defaults\n",
+             f"Of {len(judged)} settings, reproducing Figure 3: {named(figure3)}; with paper-like "
+             f"behaviour: {named(paper)}; both: {named(both)}.\n"]
+    if both:
+        return lines + ["By the rule the one with the fewest changes from the a-priori defaults "
+                        "becomes the default (docs/analysis.md).\n"]
+    behaviour = ("" if paper else "; under none of these readings do the econets reach and "
+                 "hold as the paper describes")
+    return lines + ["No setting meets all eight criteria, so by the rule the defaults stay the "
+                    f"a-priori ones (the study above ran on them){behaviour}.\n"]
+
+
 def best_setting(spec: SweepSpec, rows: list[dict]) -> tuple[Setting, list[Criterion]] | None:
     """The setting meeting the most criteria; ties to the larger CI lower bound of F - T's
     late fitness (the rule's choice of sweep B's base)."""

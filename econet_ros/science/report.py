@@ -409,18 +409,20 @@ def _sweeps(analysis: Analysis) -> list[str]:
     """Each sweep's decision-rule table and the path to its own summary."""
     if not analysis.sweeps:
         return []
-    from .regime import regime_markdown
+    from .regime import defaults_markdown, regime_markdown, verdicts
     from .sweep import load_sweep
     from .sweep_report import tidy_rows
     lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
              "The decision rule (docs/analysis.md, committed before the sweeps ran) applied to "
              "each sweep; every sweep's full tables and figures are in its own summary.\n"]
+    judged = []
     for folder in analysis.sweeps:
         spec = load_sweep(folder)
         summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
                                   analysis.folder)
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
-        rule = regime_markdown(spec, tidy_rows(spec, folder))
-        lines += [line.replace("## ", "#### ", 1) for line in rule]
-    return lines
+        rows = tidy_rows(spec, folder)
+        lines += [line.replace("## ", "#### ", 1) for line in regime_markdown(spec, rows)]
+        judged += verdicts(spec, rows)
+    return lines + (defaults_markdown(judged) if judged else [])
