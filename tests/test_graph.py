@@ -173,12 +173,13 @@ def test_weight_service_errors_keep_old_weights(graph, ros):
 def test_lockstep_world_steps_once_per_matching_command(procs, ros):
     """A world alone (the test is its controller): duplicate, future, NaN and wrong-length
     commands are rejected with a log line (one per kind) and never step it; a matching command
-    steps exactly once, as the in-process World does."""
+    steps exactly once, as the in-process World does. A cycle left unanswered for RESEND_SEC
+    has its sensors sent again, byte for byte."""
     _, log = procs.start("world", "/solo")
     node = make_node(ros, "solo_probe", "/solo")
-    heard = []
-    sensed = node.create_subscription(Proprioception, "proprioception", heard.append,
-                                      common.LOCKSTEP_QOS)
+    heard = {}                              # (trial, cycle) -> every message of that cycle
+    sensed = node.create_subscription(Proprioception, "proprioception", lambda m: heard.setdefault(
+        (m.trial, m.cycle), []).append(m), common.LOCKSTEP_QOS)
     pub = node.create_publisher(MuscleCommand, "muscle_command", common.LOCKSTEP_QOS)
     model = Config().model
     setup = TrialSetup(np.array([[20.0, 5.0], [0.0, -30.0]]), np.array([10.0, 200.0]),
@@ -215,12 +216,19 @@ def test_lockstep_world_steps_once_per_matching_command(procs, ros):
     send(2, m1)
     spin_until(ros, lambda: len(heard) >= 4, what="cycle 3")
 
-    assert [(m.trial, m.cycle) for m in heard] == [(trial, c) for c in range(4)]
+    assert list(heard) == [(trial, c) for c in range(4)]
     world = World(2, model)
     world.reset(setup)
     for motor in (m0, m1, m1):
         obs = world.step(motor)
-    assert np.array_equal(common.as_f64(heard[-1].stretch).reshape(2, 4), obs.proprio)
+    assert np.array_equal(common.as_f64(heard[trial, 3][0].stretch).reshape(2, 4), obs.proprio)
+
+    spin_until(ros, lambda: len(heard[trial, 3]) >= 2, what="cycle 3 sent again")
+    assert list(heard) == [(trial, c) for c in range(4)]      # the same cycle, not a new one
+    for again in heard.values():
+        assert all(bytes(m.stretch) == bytes(again[0].stretch) for m in again)
+    spin_until(ros, lambda: f"no command for trial {trial} cycle 3 in 1 s: sent its sensors "
+               "again" in log.read_text(), what="the world to say it sent cycle 3 again")
     text = log.read_text()
     # one line per kind of rejection (a flood of one kind is one line every 5 s)
     assert text.count("rejected muscle command") == 3, text

@@ -276,8 +276,14 @@ def test_two_graphs_in_one_namespace_refuse_loudly(ros, lease_env, tmp_path):
     undisturbed one."""
     rclpy, executor, procs = ros
     ns, generations = "/rtwin", 3
-    graphs = [start_graph(procs, ns, lease_env, tmp_path / f"graph{k}", generations)
-              for k in (1, 2)]
+    graphs = [start_graph(procs, ns, lease_env) for _ in (1, 2)]
+    watch = probe(rclpy, executor, ns)          # both graphs' nodes up before any supervisor
+    spin_until(executor, lambda: watch.count_publishers(f"{ns}/retina") == 2
+               and watch.count_publishers(f"{ns}/muscle_command") == 2, timeout=120,
+               what="two worlds and two controllers")
+    for k, g in enumerate(graphs, 1):
+        g["supervisor"] = procs.start("supervisor", ns, *supervisor_params(
+            tmp_path / f"graph{k}", generations), env=lease_env)
     spin_until(executor, lambda: all(says(g["supervisor"][1], "waiting for the graph: 2 "
                                           "publishers of retina")() for g in graphs),
                timeout=120, what="both supervisors to refuse")

@@ -121,16 +121,27 @@ class RateLimitedLog:
         self.said: dict[str, float] = {}
         self.suppressed: dict[str, int] = {}
 
+    # rclpy's logger refuses one call site logging at two severities: one call per level.
     def error(self, text: str, kind: str | None = None) -> None:
+        line = self._line(text, kind)
+        if line:
+            self.node.get_logger().error(line)
+
+    def warning(self, text: str, kind: str | None = None) -> None:
+        line = self._line(text, kind)
+        if line:
+            self.node.get_logger().warning(line)
+
+    def _line(self, text: str, kind: str | None) -> str | None:
+        """The line to say now, or None while this kind was said less than a period ago."""
         kind = kind or _NUMBERS.sub("#", text)
         now = time.monotonic()
         if now - self.said.get(kind, -self.period) < self.period:
             self.suppressed[kind] = self.suppressed.get(kind, 0) + 1
-            return
+            return None
         more = self.suppressed.pop(kind, 0)
         self.said[kind] = now
-        self.node.get_logger().error(text + (f" ({more} more like it since the last such line)"
-                                             if more else ""))
+        return text + (f" ({more} more like it since the last such line)" if more else "")
 
 
 _NUMBERS = re.compile(r"\d+")

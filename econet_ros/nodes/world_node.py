@@ -31,6 +31,10 @@ from .runner import Param, declare_parameters, node_config, run_node
 
 MODES = ("lockstep", "free")
 NEUTRAL = np.array([0.5, 0.0, 0.0, 0.0, 0.0])   # eye still, no muscle pulls
+# Lockstep: a cycle whose command has not come for this long has its sensor messages sent
+# again, so a controller that matched after they went out (DDS discovery right after start)
+# or restarted mid-trial picks the trial up instead of both waiting for ever.
+RESEND_SEC = 1.0
 
 PARAMETERS = (
     Param("n_envs", 1, "environments at start-up (a reset may change it)", low=1,
@@ -89,9 +93,12 @@ class WorldNode(Node):
         graph.subscription(self, COMMAND, self._on_command, raw=True, with_publisher=True)
         graph.service(self, "reset_trials", self._on_reset)
 
+        self.unanswered: tuple[dict, float] | None = None   # lockstep: sensors sent, when
         if self.mode == "free":
             self._new_free_trial()
             self.create_timer(1.0 / rate, self._on_tick)
+        else:
+            self.create_timer(RESEND_SEC / 4, self._resend_if_unanswered)
         self.get_logger().info(f"world ready: {n_envs} environment(s), {self.mode} mode")
 
     def _publish_frame(self) -> None:
@@ -230,12 +237,28 @@ class WorldNode(Node):
     def _publish(self, obs: Observation) -> None:
         """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
         final = bool(self.limit and obs.cycle >= self.limit)
-        for part, data in graph.encode_sensors(obs, self.trial, final).items():
+        sensors = graph.encode_sensors(obs, self.trial, final)
+        for part, data in sensors.items():
             graph.send(self, self.sensor_pubs[part], data)
         now = time.monotonic()
+        if self.mode == "lockstep":
+            self.unanswered = None if final else (sensors, now)
         if now - self._last_display >= self.display_period or final:
             self._last_display = now
             self._publish_display(obs)
+
+    def _resend_if_unanswered(self) -> None:
+        """The current cycle's sensor messages again, byte for byte, once no command has come
+        for RESEND_SEC (readers take a repeat as the same cycle)."""
+        if self.unanswered is None or time.monotonic() - self.unanswered[1] < RESEND_SEC:
+            return
+        sensors = self.unanswered[0]
+        for part, data in sensors.items():
+            graph.send(self, self.sensor_pubs[part], data)
+        self.unanswered = (sensors, time.monotonic())
+        self.refusals.warning(f"no command for trial {self.trial} cycle {self.world.cycle} in "
+                           f"{RESEND_SEC:g} s: sent its sensors again (a controller that matched "
+                           "late or restarted picks it up)", kind="resend")
 
     def _publish_display(self, obs: Observation) -> None:
         """The display environment's picture (recording/display.py), published as bytes."""
