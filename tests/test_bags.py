@@ -270,7 +270,8 @@ def test_killed_recorder_loses_at_most_the_last_second_and_repairs(ros, tmp_path
     spin_until(executor, lambda: "recording trial_start" in log.read_text(),
                what="the recorder to say it is recording")
     since = time.monotonic()
-    spin_until(executor, lambda: len(heard) > 150, what="three seconds of cycles")
+    spin_until(executor, lambda: sum(t > since for t, _, _ in heard) > 150,
+               what="three seconds of cycles since the recorder said it is recording")
     killed_at = time.monotonic()
     os.killpg(recorder.pid, signal.SIGKILL)
     recorder.wait(10)
