@@ -257,8 +257,8 @@ class WorldNode(Node):
             graph.send(self, self.sensor_pubs[part], data)
         self.unanswered = (sensors, time.monotonic())
         self.refusals.warning(f"no command for trial {self.trial} cycle {self.world.cycle} in "
-                           f"{RESEND_SEC:g} s: sent its sensors again (a controller that matched "
-                           "late or restarted picks it up)", kind="resend")
+                              f"{RESEND_SEC:g} s: sent its sensors again (a controller that "
+                              "matched late or restarted picks it up)", kind="resend")
 
     def _publish_display(self, obs: Observation) -> None:
         """The display environment's picture (recording/display.py), published as bytes."""
