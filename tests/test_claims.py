@@ -107,3 +107,12 @@ def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
     nulls = C.null_checks(claim, ev)
     assert nulls.random != "replicates"
     assert nulls.shuffled <= 0.2
+
+
+def test_the_null_tables_name_only_claims_of_the_table():
+    """TIME_COURSE and ABOUT_RANDOM choose which nulls test a claim by its key: a misspelt key
+    would silently drop a null, so every key must name a claim."""
+    keys = {claim.key for claim in C.CLAIMS}
+    named = C.TIME_COURSE | C.ABOUT_RANDOM
+    assert named <= keys, named - keys
+    assert not C.TIME_COURSE & C.ABOUT_RANDOM
