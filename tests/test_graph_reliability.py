@@ -377,8 +377,8 @@ def test_a_killed_controller_is_noticed_within_the_stall_timeout(ros, tmp_path):
     spin_until(executor, says(log, "generation 2/100"), timeout=120, what="the run to start")
     heard.clear()
     spin_until(executor, lambda: any(c > cycles // 3 for c in heard), what="a trial under way")
-    procs.kill(controller, signal.SIGKILL)
     killed = time.time()
+    procs.kill(controller, signal.SIGKILL)
     spin_until(executor, says(log, "testing the generation again"), timeout=40,
                what="the supervisor to notice")
     line = next(line for line in log.read_text().splitlines()
