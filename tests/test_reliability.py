@@ -22,7 +22,8 @@ from econet_ros import runs
 from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.errors import UsageError
-from econet_ros.runs import RunData, RunStore, evolve_into, locked
+from econet_ros.files import locked
+from econet_ros.runs import RunData, RunStore, evolve_into
 from econet_ros.science import report as report_module
 from econet_ros.science.study import StudySpec, load_study, run_study
 

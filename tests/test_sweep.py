@@ -19,7 +19,7 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.science.study import run_with_behaviour
-from econet_ros.science.sweep import load_spec
+from econet_ros.science.sweeps.spec import load_spec
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -8,7 +8,7 @@ import csv
 from dataclasses import asdict
 from pathlib import Path
 
-from ..science.compare import compare, run_folders
+from ..science.sweeps.compare import compare, run_folders
 
 
 def add_parser(commands) -> None:

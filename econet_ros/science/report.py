@@ -15,15 +15,19 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import UsageError
-from ..runs import ensure_writable, write_atomically
+from ..files import ensure_writable, write_atomically
 from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
-from .optimizers import Comparison
+from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import estimate
 from .study import ConditionData, StudySpec, load_study, optimizer_only
+from .sweeps.outcomes import tidy_rows
+from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
+from .sweeps.report import build_sweep_report
+from .sweeps.spec import load_sweep
 
 
 @dataclass
@@ -99,8 +103,6 @@ SWEEP_FILES = ("summary.md", "outcomes.csv", "comparisons.csv")
 def publish_sweep(folder: Path, into: Path) -> Path:
     """A sweep's report (econet sweep report: summary, tables, figures) copied beside the study
     report, so the published report links to files that are there."""
-    from .sweep import load_sweep
-    from .sweep_report import build_sweep_report
     build_sweep_report(folder)
     target = into / load_sweep(folder).name
     (target / "figures").mkdir(parents=True, exist_ok=True)
@@ -409,9 +411,6 @@ def _sweeps(analysis: Analysis) -> list[str]:
     """Each sweep's decision-rule table and the path to its own summary."""
     if not analysis.sweeps:
         return []
-    from .regime import defaults_markdown, regime_markdown, verdicts
-    from .sweep import load_sweep
-    from .sweep_report import tidy_rows
     lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
              "The decision rule (docs/analysis.md, committed before the sweeps ran) applied to "
              "each sweep; every sweep's full tables and figures are in its own summary.\n"]

@@ -39,9 +39,9 @@ from typing import Any
 
 import numpy as np
 
-from ..config import CONDITIONS, SETTINGS, Config
-from ..errors import ConfigError, ResultsError
-from ..runs import RunData
+from ...config import CONDITIONS, SETTINGS, Config
+from ...errors import ConfigError, ResultsError
+from ...runs import RunData
 
 FORMAT = "econet-sweep/1"
 RESERVED = ("evolution.condition", "evolution.generations")

@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ResultsError
-from .stats import Estimate, estimate, paired
-from .sweep_report import OUTCOMES, WINDOWS, outcome_value, run_series, window
+from ...errors import ResultsError
+from ..stats import Estimate, estimate, paired
+from .outcomes import OUTCOMES, WINDOWS, outcome_value, run_series, window
 
 
 @dataclass(frozen=True)

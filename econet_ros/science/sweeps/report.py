@@ -1,103 +1,17 @@
-"""``econet sweep report``: a sweep folder's outcomes as one tidy table, its paired comparisons
-with bootstrap intervals and effect sizes, figures, and a Markdown summary.
-
-Each outcome is a run's mean over an early window (the first 10% of generations) and a late
-one (the last 10%), as the study's claims use them. Comparisons pair runs by seed.
-"""
+"""``econet sweep report``: a sweep folder's outcomes (outcomes.py) as one tidy table, its
+paired comparisons with bootstrap intervals and effect sizes, figures, and a Markdown summary.
+Comparisons pair runs by seed."""
 from __future__ import annotations
 
 import csv
-import math
-from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
-from ..errors import ResultsError
-from ..runs import RunData, table_rows
-from .measures import BEHAVIOUR_COLUMNS
-from .stats import estimate, paired
+from ...errors import ResultsError
+from ..stats import estimate, paired
+from .figures import comparison_figure, gallery, outcome_figure
+from .outcomes import OUTCOMES, WINDOWS, tidy_rows
 from .regime import regime_markdown
-from .sweep import SweepSpec, comparison_pairs, load_sweep, values
-
-
-@dataclass(frozen=True)
-class Outcome:
-    name: str
-    label: str
-    numerator: str            # a metrics.csv or behaviour.csv column
-    denominator: str = ""     # for ratios: window sums of the two, divided
-
-
-OUTCOMES = (
-    Outcome("top_fitness", "top-20 fitness", "top_fitness"),
-    Outcome("all_fitness", "all-econet fitness", "all_fitness"),
-    Outcome("top_successes", "top-20 successful trials", "top_successes"),
-    Outcome("all_successes", "all-econet successful trials", "all_successes"),
-    Outcome("top_separations", "top-20 separations", "top_separations"),
-    Outcome("top_latency", "top-20 latency, all trials (a miss counts as the trial length)",
-            "top_latency"),
-    Outcome("top_latency_success", "top-20 latency over successful trials",
-            "top_latency_success"),
-    Outcome("top_separations_per_success", "top-20 separations per successful trial",
-            "top_separations", "top_successes"),
-    Outcome("top_eye_speed_fix", "top-20 eye speed while fixating (deg/cycle)",
-            "top_eye_speed_fix"),
-    Outcome("top_hand_speed_fix", "top-20 hand speed while fixating (units/cycle)",
-            "top_hand_speed_fix"),
-    Outcome("top_approach_fix", "top-20 P(approach | fixated)", "top_approach_fix"),
-)
-WINDOWS = ("early", "late")
-
-
-def window(generations: int, name: str) -> slice:
-    tenth = max(1, generations // 10)
-    return slice(0, tenth) if name == "early" else slice(generations - tenth, generations)
-
-
-def run_series(folder: Path) -> dict[str, np.ndarray]:
-    """Every per-generation column of a run: metrics.csv, and behaviour.csv when it is there
-    and of this version (NaN columns otherwise)."""
-    data = RunData(folder)
-    series = dict(data.metrics)
-    try:
-        rows = table_rows(folder / "behaviour.csv", BEHAVIOUR_COLUMNS)[:data.generations_done]
-    except ResultsError:
-        rows = np.full((0, len(BEHAVIOUR_COLUMNS)), np.nan)
-    for i, column in enumerate(BEHAVIOUR_COLUMNS):
-        series.setdefault(column, rows[:, i] if len(rows) == data.generations_done
-                          else np.full(data.generations_done, np.nan))
-    return series
-
-
-def outcome_value(series: dict[str, np.ndarray], outcome: Outcome, span: slice) -> float:
-    values = series[outcome.numerator][span]
-    if outcome.denominator:
-        below = np.nansum(series[outcome.denominator][span])
-        return float(np.nansum(values) / below) if below > 0 else math.nan
-    finite = values[np.isfinite(values)]
-    return float(finite.mean()) if len(finite) else math.nan
-
-
-# -- the tidy table -----------------------------------------------------------------------------
-def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
-    """One row per (cell, condition, seed): the outcomes in each window (NaN for a missing
-    or unfinished run, which the row's `generations_done` shows)."""
-    rows = []
-    for run in sorted(spec.runs(), key=lambda r: (r.cell, r.condition, r.seed)):
-        row = {"cell": run.cell, "condition": run.condition, "seed": run.seed}
-        folder = run.folder(out)
-        series = run_series(folder) if (folder / "run.json").exists() else None
-        done = len(series["generation"]) if series else 0
-        row["generations_done"] = done
-        complete = done == spec.generations
-        for outcome in OUTCOMES:
-            for name in WINDOWS:
-                value = outcome_value(series, outcome, window(spec.generations, name)) \
-                    if complete else math.nan
-                row[f"{outcome.name}_{name}"] = value
-        rows.append(row)
-    return rows
+from .spec import SweepSpec, comparison_pairs, load_sweep, values
 
 
 # -- comparisons --------------------------------------------------------------------------------
@@ -148,7 +62,6 @@ def build_sweep_report(out: Path) -> tuple[Path, list[str]]:
     late = {(cell.name, condition, o.name): estimate(values(rows, cell.name, condition,
                                                              f"{o.name}_late", spec.seeds))
             for cell in spec.cells for condition in cell.conditions for o in OUTCOMES}
-    from .sweep_figures import comparison_figure, gallery, outcome_figure   # matplotlib: late
     figures = [outcome_figure(spec, late, {o.name: o.label for o in OUTCOMES}, out / "figures")]
     if compared:
         figures.append(comparison_figure(compared, out / "figures"))

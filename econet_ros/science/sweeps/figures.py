@@ -10,8 +10,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .stats import Estimate  # noqa: E402
-from .sweep import SweepSpec  # noqa: E402
+from ..figures import hand_path_gallery  # noqa: E402
+from ..stats import Estimate  # noqa: E402
+from .spec import SweepSpec  # noqa: E402
 
 COLORS = {"normal": "tab:blue", "three-layer": "tab:orange", "random": "tab:gray"}
 SHOWN = ("top_fitness", "top_successes", "top_separations_per_success", "top_latency_success",
@@ -86,7 +87,6 @@ def comparison_figure(compared: list[dict], folder: Path) -> Path:
 
 def gallery(runs: list[tuple[str, Path]], folder: Path) -> Path:
     """The study's hand-path gallery for the first seed of every cell and condition."""
-    from .figures import hand_path_gallery
     fig = hand_path_gallery(runs, trials=4)
     path = folder / "gallery.png"
     fig.tight_layout()

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stats import estimate, paired
-from .sweep import SweepSpec, comparison_pairs, values
+from ..stats import estimate, paired
+from .spec import SweepSpec, comparison_pairs, values
 
 
 @dataclass(frozen=True)

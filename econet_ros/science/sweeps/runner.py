@@ -19,11 +19,11 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from ..config import Config
-from ..errors import UsageError
-from ..runs import evolve_into
-from .study import run_with_behaviour
-from .sweep import Run, SweepSpec, finished, prepare_folder
+from ...config import Config
+from ...errors import UsageError
+from ...runs import evolve_into
+from ..study import run_with_behaviour
+from .spec import Run, SweepSpec, finished, prepare_folder
 
 TASK_RETRIES = 3       # a run whose worker process dies is started again up to this often
 
