@@ -109,10 +109,17 @@ def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
     assert nulls.shuffled <= 0.2
 
 
-def test_the_null_tables_name_only_claims_of_the_table():
-    """TIME_COURSE and ABOUT_RANDOM choose which nulls test a claim by its key: a misspelt key
-    would silently drop a null, so every key must name a claim."""
-    keys = {claim.key for claim in C.CLAIMS}
-    named = C.TIME_COURSE | C.ABOUT_RANDOM
-    assert named <= keys, named - keys
-    assert not C.TIME_COURSE & C.ABOUT_RANDOM
+def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
+    """@claim registers each claim where its measure is defined; two claims stacked on one
+    measure keep the order they are written in and each passes its own argument."""
+    keys = [claim.key for claim in C.CLAIMS]
+    assert all(isinstance(claim, C.Claim) for claim in C.CLAIMS)
+    assert len(set(keys)) == len(keys)
+    assert keys.index("coact-early-shoulder") + 1 == keys.index("coact-early-elbow")
+    assert keys.index("hand-slowdown") + 1 == keys.index("eye-slowdown")
+    by_key = dict(zip(keys, C.CLAIMS))
+    assert by_key["coact-early-elbow"].measure.keywords == {"joint": "elbow"}
+    assert by_key["eye-slowdown"].measure.keywords == {"kind": "eye"}
+    assert all(set(claim.nulls) <= {C.RANDOM, C.SHUFFLED} for claim in C.CLAIMS)
+    assert C.RANDOM not in by_key["random-fitness"].nulls     # it reads random movement itself
+    assert C.SHUFFLED in by_key["approach-increases"].nulls   # a time course
