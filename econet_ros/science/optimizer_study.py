@@ -154,10 +154,10 @@ class Comparison:
     def _conclusion(self) -> list[str]:
         everywhere, ga_only, elsewhere, nowhere = [], [], [], []
         for label, _, key in CONSTRAINTS:
-            seen = {opt for opt in self.arms if self.verdict(opt, key) in APPEARS}
-            if seen == set(self.arms):
+            seen = [opt for opt in self.arms if self.verdict(opt, key) in APPEARS]  # arms' order
+            if seen == list(self.arms):
                 everywhere.append(label)
-            elif seen == {"ga"}:
+            elif seen == ["ga"]:
                 ga_only.append(label)
             elif seen:
                 elsewhere.append(f"{label} (under {', '.join(NAMES[o] for o in seen)})")
