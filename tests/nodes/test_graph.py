@@ -29,6 +29,8 @@ from econet_ros.world import TrialSetup, World  # noqa: E402
 
 from graph_helpers import REPO, Processes, call, spin_until  # noqa: E402
 
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
+
 SMALL = {"population": 10, "parents": 2, "trials": 4, "cycles": 60}
 FILES = ("run.json", "metrics.csv", "genomes.npy", "fitness.npy", "best_genomes.npy")
 

@@ -20,6 +20,8 @@ from econet_ros.topics import MAX_ENVS
 
 from graph_helpers import call, ros_session, spin_until
 
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
+
 SMALL = {"population": 6, "parents": 2, "trials": 3, "cycles": 30}
 N_ENVS = SMALL["population"] * SMALL["trials"]
 FILES = ("run.json", "metrics.csv", "genomes.npy", "fitness.npy", "best_genomes.npy")

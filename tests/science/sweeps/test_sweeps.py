@@ -21,7 +21,7 @@ from econet_ros.cli import main
 from econet_ros.science.study import run_with_behaviour
 from econet_ros.science.sweeps.spec import load_spec
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[3]
 
 TINY = '''
 name = "tiny"
