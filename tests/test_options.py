@@ -112,6 +112,7 @@ def test_forward_posture_sees_what_the_centred_one_90_degrees_lower_sees(shoulde
 def test_added_settings_are_stored_only_when_not_default():
     stored = Config().to_dict()
     for section, name in (("model", "body_axis"), ("model", "shoulder_convention"),
+                          ("model", "angle_steps"), ("model", "joint_limit"),
                           ("evolution", "genome_code"), ("evolution", "mutation_step")):
         assert name not in stored[section]
     changed = Config().replace(**{"evolution.genome_code": "gray",
