@@ -19,7 +19,7 @@ from .errors import ConfigError
 
 CONDITIONS = ("normal", "three-layer", "random")
 MUTATIONS = ("per-bit", "exact", "weights")         # genome.mutate's modes
-CODES = ("binary", "gray")                          # genome.decode's codes
+CODES = ("binary", "gray", "sign-magnitude")        # genome.decode's codes
 BODY_AXES = ("unbounded", "within-360")
 SHOULDER_CONVENTIONS = ("centred", "forward")
 ANGLE_STEPS = ("continuous", "round", "truncate")   # world.move's moves per cycle
@@ -120,8 +120,9 @@ class EvolutionConfig:
                                  "2 x weight_range / (2^bits - 1) (0.078 in the paper's grid)",
                                  low=1, high=255, added=True)
     genome_code: str = setting("binary", "how a weight's grid point is coded in its bits: "
-                               "binary, or gray (neighbouring points differ in one bit)",
-                               choices=CODES, added=True)
+                               "binary, gray (neighbouring points differ in one bit), or "
+                               "sign-magnitude (a sign bit and bits - 1 of magnitude: zero is a "
+                               "code)", choices=CODES, added=True)
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
     optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
                              "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
@@ -264,6 +265,9 @@ class Config:
             (m.angle_steps == "continuous" or float(m.joint_max_deg).is_integer(),
              f"whole-degree angles (angle_steps={m.angle_steps}) need a whole joint_max_deg, got "
              f"{m.joint_max_deg:g}"),
+            (e.genome_code != "sign-magnitude" or e.bits_per_weight >= 2,
+             "the sign-magnitude genome code needs at least 2 bits_per_weight (a sign and a "
+             "magnitude)"),
             (e.optimizer != "es" or e.population % 2 == 0,
              f"the es optimizer tests antithetic pairs: population must be even, got "
              f"{e.population}"),

@@ -29,13 +29,13 @@ def test_gray_code_round_trips_and_neighbours_differ_in_one_bit():
 
 
 # -- the body text's mutation: 2% of the weights, each by a small step --------------------------
-@pytest.mark.parametrize("code", ["binary", "gray"])
+@pytest.mark.parametrize("code", ["binary", "gray", "sign-magnitude"])
 def test_weight_mutation_moves_two_percent_of_weights_by_small_steps(code):
     rng = np.random.default_rng(4)
     points = rng.integers(10, 246, size=(2000, 160)).astype(np.uint8)   # away from the ends
-    codes = genome.codes_of(points, code)
+    codes = genome.codes_of(points, 8, code)
     mutated = genome.mutate(rng, codes, 8, 0.02, mode="weights", step=4, code=code)
-    moves = genome.grid_points(mutated, code).astype(int) - points.astype(int)
+    moves = genome.grid_points(mutated, 8, code).astype(int) - points.astype(int)
     changed = moves != 0
     # 320,000 weights at 2%: 6,400 expected, s.d. 79
     assert abs(changed.mean() - 0.02) < 0.001, changed.mean()

@@ -1,8 +1,9 @@
-"""Readings of the paper tried as settings (issue 20): whole-degree moves and a move past a
-joint limit cancelled; each checked on cases worked by hand."""
+"""Readings of the paper tried as settings (issue 20): whole-degree moves, a move past a joint
+limit cancelled, and a sign-magnitude weight code; each checked on cases worked by hand."""
 import numpy as np
 import pytest
 
+from econet_ros import genome
 from econet_ros.cli import main
 from econet_ros.config import Config, ModelConfig
 from econet_ros.errors import ConfigError, SetupError
@@ -110,6 +111,68 @@ def test_readings_reach_the_command_line(tmp_path):
     out = tmp_path / "runs"
     assert main(["evolve", "--out", str(out), "--quiet", "--runs", "1", "--generations", "2",
                  "--population", "10", "--parents", "2", "--trials", "2", "--cycles", "10",
-                 "--set", "model.joint_limit=cancel", "--angle-steps", "truncate"]) == 0
+                 "--set", "model.joint_limit=cancel", "--angle-steps", "truncate",
+                 "--genome-code", "sign-magnitude"]) == 0
     config = RunData(out / "run-01").config
-    assert (config.model.joint_limit, config.model.angle_steps) == ("cancel", "truncate")
+    assert (config.model.joint_limit, config.model.angle_steps, config.evolution.genome_code) \
+        == ("cancel", "truncate", "sign-magnitude")
+
+
+# -- the sign-magnitude weight code --------------------------------------------------------------
+SM = "sign-magnitude"
+
+
+def test_sign_magnitude_decodes_sign_times_magnitude():
+    codes = np.array([0b00000000, 0b10000000, 0b00000001, 0b10000011, 0b01111111, 0b11111111],
+                     np.uint8)
+    weights = genome.decode(codes, 8, 10.0, SM)
+    np.testing.assert_array_equal(weights, [0.0, 0.0, 10 / 127, -30 / 127, 10.0, -10.0])
+    np.testing.assert_array_equal(genome.encode(weights, 8, 10.0, SM),
+                                  [0, 0, 1, 0b10000011, 0b01111111, 0b11111111])   # -0 -> +0
+
+
+def test_sign_magnitude_round_trips_and_flipping_the_sign_bit_negates():
+    codes = np.arange(256, dtype=np.uint8)
+    weights = genome.decode(codes, 8, 10.0, SM)
+    assert len(np.unique(weights)) == 255 == genome.n_grid_points(8, SM)
+    back = genome.encode(weights, 8, 10.0, SM)
+    np.testing.assert_array_equal(back[codes != 128], codes[codes != 128])
+    np.testing.assert_array_equal(genome.decode(codes ^ 0b10000000, 8, 10.0, SM), -weights)
+    by_point = genome.codes_of(np.arange(255, dtype=np.uint8), 8, SM)
+    assert np.all(np.diff(genome.decode(by_point, 8, 10.0, SM)) > 0)     # points in weight order
+    np.testing.assert_array_equal(genome.grid_points(by_point, 8, SM), np.arange(255))
+
+
+def test_sign_magnitude_puts_no_cliff_at_zero():
+    # binary: the two weights nearest zero (codes 127 and 128) differ in all 8 bits
+    near_zero = genome.encode(np.array([-0.03, 0.03]), 8, 10.0, "binary")
+    assert tuple(near_zero) == (127, 128)
+    assert genome.flipped_bits(near_zero[:1], near_zero[1:]) == 8
+    # sign-magnitude: -1 step, 0, +1 step are one bit apart each
+    minus, zero, plus = genome.encode(np.array([-10 / 127, 0.0, 10 / 127]), 8, 10.0, SM)
+    assert (minus, zero, plus) == (0b10000001, 0, 1)
+    assert genome.flipped_bits(np.array([minus]), np.array([plus])) == 1
+    assert genome.flipped_bits(np.array([zero]), np.array([plus])) == 1
+    assert genome.flipped_bits(np.array([0b10000000], np.uint8), np.array([minus])) == 1
+
+
+def test_sign_magnitude_weight_steps_pass_zero_once():
+    # from +1 step (code 1), moves of -2, -1, +1, +2 grid points give -1, 0, +2, +3 steps
+    rng = np.random.default_rng(3)
+    start = np.ones((4000, 1), np.uint8)
+    mutated = genome.mutate(rng, start, 8, 1.0, mode="weights", step=2, code=SM)
+    steps = np.rint(genome.decode(mutated, 8, 10.0, SM) * 127 / 10).astype(int)
+    assert set(np.unique(steps)) == {-1, 0, 2, 3}
+    assert set(np.unique(mutated[steps == 0])) == {0}                   # zero codes as +0
+    ends = np.array([[0b01111111, 0b11111111, 0b10000000]], np.uint8)   # +10, -10, -0
+    moved = genome.mutate(rng, np.repeat(ends, 2000, axis=0), 8, 1.0, mode="weights", step=3,
+                          code=SM)
+    assert genome.decode(moved, 8, 10.0, SM).max() == 10.0                 # stops at the ends
+    assert genome.decode(moved, 8, 10.0, SM).min() == -10.0
+    unchosen = genome.mutate(rng, ends, 8, 0.0, mode="weights", step=3, code=SM)
+    np.testing.assert_array_equal(unchosen, ends)                           # -0 stays -0
+
+
+def test_sign_magnitude_needs_a_sign_and_a_magnitude_bit():
+    with pytest.raises(ConfigError, match="at least 2 bits_per_weight"):
+        Config().replace(**{"evolution.genome_code": SM, "evolution.bits_per_weight": 1})
