@@ -47,7 +47,7 @@ def outcome_figure(spec: SweepSpec, late: dict[tuple[str, str, str], Estimate],
         ax.set_xticklabels(names, rotation=30, ha="right", fontsize=7)
         ax.set_title(labels[name], fontsize=9)
     axes.flat[0].legend(fontsize=7)
-    fig.suptitle(f"Sweep '{spec.name}': late-window outcomes, mean and 95% bootstrap CI over "
+    fig.suptitle(f"Sweep '{spec.name}': late-window outcomes, mean and 95% t interval over "
                  f"{len(spec.seeds)} seeds")
     fig.tight_layout()
     path = folder / "outcomes.png"
@@ -76,7 +76,7 @@ def comparison_figure(compared: list[dict], folder: Path) -> Path:
         ax.set_title(name, fontsize=8)
         ax.set_yticks(ys)
         ax.set_yticklabels([f"{r['a']} - {r['b']}" for r in mine], fontsize=6)
-    fig.suptitle("Paired comparisons (a - b), late window, 95% bootstrap CI over seeds",
+    fig.suptitle("Paired comparisons (a - b), late window, 95% t interval over seeds",
                  fontsize=9)
     fig.tight_layout()
     path = folder / "comparisons.png"

@@ -1,5 +1,5 @@
 """``econet sweep report``: a sweep folder's outcomes (outcomes.py) as one tidy table, its
-paired comparisons with bootstrap intervals and effect sizes, figures, and a Markdown summary.
+paired comparisons with t intervals and effect sizes, figures, and a Markdown summary.
 Comparisons pair runs by seed."""
 from __future__ import annotations
 
@@ -79,7 +79,7 @@ def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out:
     lines = [f"# Sweep '{spec.name}'\n", spec.description + "\n" if spec.description else "",
              f"{len(spec.cells)} cell(s), seeds {', '.join(map(str, spec.seeds))}, "
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
-             "by seed. Intervals: 95% percentile bootstrap over seeds; d_z = mean difference / "
+             "by seed. Intervals: 95% Student-t over seeds; d_z = mean difference / "
              "s.d. of the differences. Files: outcomes.csv (one row per run), comparisons.csv."
              "\n"]
     if notes:
