@@ -120,7 +120,7 @@ def confirmatory(spec: SweepSpec, rows: list[dict]) -> list[str]:
     lines += [f"| holding | T4: {t4_text}; F - T4: {gap.text(2)} ({gap.method}) | - |",
               f"\n**The four-layer advantage {survives}** (H2-F1 {h2[0].verdict}).",
               _size_sentence(h1_verdict, h2[0].verdict), "",
-              f"**Defaults by the rule:** {_defaults(h1_verdict)}\n"]
+              f"**Defaults by the rule:** {defaults_sentence(h1_verdict)}\n"]
     return lines
 
 
@@ -132,7 +132,8 @@ def _size_sentence(h1: str, h2_f1: str) -> str:
     return ""
 
 
-def _defaults(h1: str) -> str:
+def defaults_sentence(h1: str) -> str:
+    """What the confirmatory rule makes of the defaults, given H1's verdict."""
     if h1 == REPLICATES:
         return ("H1 replicates, so the four-layer hidden sizes 2/2/4 become the defaults; the "
                 "a-priori 4/4/8 stays a named variant.")
