@@ -19,9 +19,11 @@ from .errors import ConfigError
 
 CONDITIONS = ("normal", "three-layer", "random")
 MUTATIONS = ("per-bit", "exact", "weights")         # genome.mutate's modes
-CODES = ("binary", "gray")                          # genome.decode's codes
+CODES = ("binary", "gray", "sign-magnitude")        # genome.decode's codes
 BODY_AXES = ("unbounded", "within-360")
 SHOULDER_CONVENTIONS = ("centred", "forward")
+ANGLE_STEPS = ("continuous", "round", "truncate")   # world.move's moves per cycle
+JOINT_LIMITS = ("clip", "cancel")
 OPTIMIZERS = ("ga", "cmaes", "es")                  # optimizers.py
 
 
@@ -72,6 +74,13 @@ class ModelConfig:
                                        "'forward' (extended = along the gaze, flexing sweeps "
                                        "left to straight back); docs/assumptions.md",
                                        choices=SHOULDER_CONVENTIONS, added=True)
+    angle_steps: str = setting("continuous", "each cycle's eye and joint moves: 'continuous', "
+                               "or whole degrees, 'round'ed (half away from zero) or "
+                               "'truncate'd (toward zero); trial starts are then whole degrees "
+                               "too", choices=ANGLE_STEPS, added=True)
+    joint_limit: str = setting("clip", "a joint move past 0 or joint_max_deg: 'clip' (stop at "
+                               "the limit) or 'cancel' (that joint does not move that cycle)",
+                               choices=JOINT_LIMITS, added=True)
 
 
 @dataclass(frozen=True)
@@ -111,8 +120,9 @@ class EvolutionConfig:
                                  "2 x weight_range / (2^bits - 1) (0.078 in the paper's grid)",
                                  low=1, high=255, added=True)
     genome_code: str = setting("binary", "how a weight's grid point is coded in its bits: "
-                               "binary, or gray (neighbouring points differ in one bit)",
-                               choices=CODES, added=True)
+                               "binary, gray (neighbouring points differ in one bit), or "
+                               "sign-magnitude (a sign bit and bits - 1 of magnitude: zero is a "
+                               "code)", choices=CODES, added=True)
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
     optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
                              "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
@@ -252,6 +262,12 @@ class Config:
              "reach_min/reach_max must satisfy 0 <= reach_min <= reach_max <= arm length + radius"),
             (m.visual_units * m.windows_per_unit == round(m.field_of_view_deg),
              "visual_units x windows_per_unit must equal the field of view in degrees"),
+            (m.angle_steps == "continuous" or float(m.joint_max_deg).is_integer(),
+             f"whole-degree angles (angle_steps={m.angle_steps}) need a whole joint_max_deg, got "
+             f"{m.joint_max_deg:g}"),
+            (e.genome_code != "sign-magnitude" or e.bits_per_weight >= 2,
+             "the sign-magnitude genome code needs at least 2 bits_per_weight (a sign and a "
+             "magnitude)"),
             (e.optimizer != "es" or e.population % 2 == 0,
              f"the es optimizer tests antithetic pairs: population must be even, got "
              f"{e.population}"),

@@ -6,6 +6,12 @@ with both ends included (R = 10 in the paper). The code of grid point k is k its
 the default: a flipped high bit moves a weight far, a flipped low bit a little, as in the
 paper's example) or its reflected Gray code ("gray": neighbouring grid points differ in one bit).
 
+"sign-magnitude" codes a weight as a sign bit (the highest; 1 = negative) and bits - 1 bits of
+magnitude m: w = +-m * R / (2**(bits - 1) - 1). Zero is a code (twice: +0 and -0), so the
+weights nearest zero are not, as in binary, on the 8-bit cliff between codes 127 and 128, and
+w and -w differ in one bit. Its grid is the 255 distinct weights, point k = 127 + the signed
+magnitude (zero is point 127 and codes back to +0).
+
 Mutation, in the readings the paper allows (config evolution.mutation_mode):
     per-bit  every bit flips independently with probability ``rate`` (the Appendix: "2% of the
              bits were randomly selected and switched");
@@ -13,7 +19,7 @@ Mutation, in the readings the paper allows (config evolution.mutation_mode):
     weights  each weight is chosen with probability ``rate`` and moved up or down the grid by a
              uniform random 1..``step`` points, stopping at the grid's ends (the body text:
              "strengthening or weakening 2% of the connection weights, selected at random, by a
-             small random amount").
+             small random amount"); under sign-magnitude, a step through zero counts zero once.
 """
 from __future__ import annotations
 
@@ -24,8 +30,9 @@ def code_dtype(bits: int) -> type:
 
 
 def random_genomes(rng: np.random.Generator, n: int, n_weights: int, bits: int) -> np.ndarray:
-    """n genomes with codes uniform over all 2**bits values (weights uniform in [-R, R], for
-    either code)."""
+    """n genomes with codes uniform over all 2**bits values, i.e. random bits (weights uniform
+    over the grid of [-R, R] under every code; under sign-magnitude zero, coded twice, is twice
+    as likely as any other weight)."""
     return rng.integers(0, 2 ** bits, size=(n, n_weights)).astype(code_dtype(bits))
 
 
@@ -44,17 +51,46 @@ def from_gray(codes: np.ndarray) -> np.ndarray:
     return points
 
 
-def grid_points(codes: np.ndarray, code: str = "binary") -> np.ndarray:
-    return from_gray(codes) if code == "gray" else codes
+def largest_magnitude(bits: int) -> int:
+    """The sign-magnitude code's largest magnitude, 2**(bits - 1) - 1 (127 for 8 bits)."""
+    return 2 ** (bits - 1) - 1
 
 
-def codes_of(points: np.ndarray, code: str = "binary") -> np.ndarray:
-    return to_gray(points) if code == "gray" else points
+def n_grid_points(bits: int, code: str = "binary") -> int:
+    """How many distinct weights the codes give: all 2**bits, but one fewer under
+    sign-magnitude, whose +0 and -0 are the same weight."""
+    return 2 ** bits - 1 if code == "sign-magnitude" else 2 ** bits
+
+
+def grid_points(codes: np.ndarray, bits: int, code: str = "binary") -> np.ndarray:
+    """The weight-ordered grid point of each code (0 = -R, the last = +R)."""
+    if code == "gray":
+        return from_gray(codes)
+    if code == "sign-magnitude":
+        top = largest_magnitude(bits)
+        magnitude = (codes & top).astype(np.int64)
+        return (top + np.where(codes >> (bits - 1), -magnitude, magnitude)).astype(codes.dtype)
+    return codes
+
+
+def codes_of(points: np.ndarray, bits: int, code: str = "binary") -> np.ndarray:
+    """The code of each grid point (inverse of grid_points; zero codes as +0)."""
+    if code == "gray":
+        return to_gray(points)
+    if code == "sign-magnitude":
+        top = largest_magnitude(bits)
+        signed = points.astype(np.int64) - top
+        return np.where(signed < 0, (top + 1) | -signed, signed).astype(points.dtype)
+    return points
 
 
 def decode(codes: np.ndarray, bits: int, weight_range: float, code: str = "binary") -> np.ndarray:
     """Real-valued weights for integer codes of any shape."""
-    points = grid_points(codes, code)
+    if code == "sign-magnitude":       # sign x magnitude, so that w and -w are exact opposites
+        top = largest_magnitude(bits)
+        magnitude = (codes & top).astype(np.float64) * weight_range / top
+        return np.where(codes >> (bits - 1), -magnitude, magnitude)
+    points = grid_points(codes, bits, code)
     return -weight_range + 2.0 * weight_range * points.astype(np.float64) / (2 ** bits - 1)
 
 
@@ -62,7 +98,8 @@ def encode(weights: np.ndarray, bits: int, weight_range: float,
            code: str = "binary") -> np.ndarray:
     """Nearest codes for real weights (clipped to [-R, R])."""
     scaled = (np.clip(weights, -weight_range, weight_range) + weight_range) / (2 * weight_range)
-    return codes_of(np.rint(scaled * (2 ** bits - 1)).astype(code_dtype(bits)), code)
+    points = np.rint(scaled * (n_grid_points(bits, code) - 1)).astype(code_dtype(bits))
+    return codes_of(points, bits, code)
 
 
 def mutate(rng: np.random.Generator, codes: np.ndarray, bits: int, rate: float,
@@ -90,9 +127,10 @@ def _step_weights(rng: np.random.Generator, codes: np.ndarray, bits: int, rate: 
     chosen = rng.random(codes.shape) < rate
     size = rng.integers(1, step + 1, size=codes.shape)
     sign = np.where(rng.random(codes.shape) < 0.5, -1, 1)
-    points = grid_points(codes, code).astype(np.int64)
-    moved = np.clip(points + np.where(chosen, sign * size, 0), 0, 2 ** bits - 1)
-    return codes_of(moved.astype(codes.dtype), code)
+    points = grid_points(codes, bits, code).astype(np.int64)
+    moved = np.clip(points + np.where(chosen, sign * size, 0), 0, n_grid_points(bits, code) - 1)
+    # Weights not chosen keep their codes (a sign-magnitude -0 stays -0).
+    return np.where(chosen, codes_of(moved.astype(codes.dtype), bits, code), codes)
 
 
 def flipped_bits(a: np.ndarray, b: np.ndarray) -> int:

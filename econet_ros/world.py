@@ -19,7 +19,10 @@ Kinematics
 
 Action space: ``motor`` (n, 5) in [0, 1]: [eye, shoulder flexor, shoulder extensor, elbow flexor,
 elbow extensor]. The eye turns 2*M*(eye - 0.5) degrees, each joint q changes by
--M*(flexor - extensor), M = ``max_rotation_deg`` (15); joints stop at their limits.
+-M*(flexor - extensor), M = ``max_rotation_deg`` (15); joints stop at their limits (or, with
+``joint_limit`` 'cancel', a move past a limit is not made). With ``angle_steps`` 'round' or
+'truncate' every move is whole degrees (rounded half away from zero, or truncated toward zero)
+and trials start at whole degrees, so all three angles stay whole.
 
 Observation space (``Observation``)
     vision   (n, 8) in [0, 1]: unit j averages one-degree windows 8j..8j+7, unit 0 at the right
@@ -43,7 +46,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .config import ModelConfig
+from .config import ANGLE_STEPS, ModelConfig
 from .elementary import ATAN2_ERROR, atan2_approx, cos_sin_deg
 from .errors import ActionError, SetupError
 
@@ -85,12 +88,18 @@ class TrialSetup:
 
 def sample_setups(rng: np.random.Generator, n: int, model: ModelConfig) -> TrialSetup:
     """Draw n trial starts: the object uniformly over the reachable annulus (by area) and, for
-    the 'random' start posture, a uniformly random body axis and joint angles."""
+    the 'random' start posture, a uniformly random body axis and joint angles (uniform over
+    whole degrees when moves are whole degrees)."""
     angle = rng.uniform(0.0, 2 * np.pi, n)
     r2 = rng.uniform(model.reach_min ** 2, model.reach_max ** 2, n)
     radius = np.sqrt(r2)
     object_xy = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
-    if model.start_posture == "random":
+    if model.start_posture == "random" and model.angle_steps != "continuous":
+        whole_max = int(model.joint_max_deg) + 1          # whole degrees 0..joint_max_deg
+        body = rng.integers(0, 360, n).astype(np.float64)
+        shoulder = rng.integers(0, whole_max, n).astype(np.float64)
+        elbow = rng.integers(0, whole_max, n).astype(np.float64)
+    elif model.start_posture == "random":
         body = rng.uniform(0.0, 360.0, n)
         shoulder = rng.uniform(0.0, model.joint_max_deg, n)
         elbow = rng.uniform(0.0, model.joint_max_deg, n)
@@ -125,8 +134,9 @@ BODY_START_MAX_DEG = 360.0
 def check_setup(setup: TrialSetup, model: ModelConfig) -> None:
     """Raise SetupError (one line) unless every trial start can be run as given: one value per
     environment, all finite, the object within reach, the body axis within BODY_START_MAX_DEG
-    of +x and both joints within their range. The world node and World.reset apply the same
-    rule, so nothing is silently clipped."""
+    of +x, both joints within their range, and whole-degree angles when moves are whole
+    degrees. The world node and World.reset apply the same rule, so nothing is silently
+    clipped or rounded."""
     n = len(setup.body)
     for name, values, width in (("object_xy", setup.object_xy, 2), ("body", setup.body, 1),
                                 ("shoulder", setup.shoulder, 1), ("elbow", setup.elbow, 1)):
@@ -148,6 +158,12 @@ def check_setup(setup: TrialSetup, model: ModelConfig) -> None:
         if np.any(outside):
             raise SetupError(f"{name} angles must be between {low:g} and {high:g} degrees, got "
                              f"{float(values[np.argmax(outside)]):g}")
+    if model.angle_steps != "continuous":
+        for name, values in (("body", setup.body), ("shoulder", setup.shoulder),
+                             ("elbow", setup.elbow)):
+            if np.any(np.asarray(values) != np.round(values)):
+                raise SetupError(f"{name} angles must be whole degrees under "
+                                 f"model.angle_steps={model.angle_steps}")
 
 
 class Geometry(NamedTuple):
@@ -165,6 +181,8 @@ class Geometry(NamedTuple):
     visual_units: int
     tip_base: float        # tip direction = tip_base - q_s - q_e / 2 (degrees, eye frame)
     body_range: float      # the body axis stays within +-this of its trial start (inf: free)
+    angle_steps: int       # CONTINUOUS, ROUND or TRUNCATE: how each cycle's moves are stepped
+    cancel_at_limit: bool  # a joint move past a limit is not made (else it stops at the limit)
 
     @classmethod
     def of(cls, model: ModelConfig) -> "Geometry":
@@ -176,7 +194,8 @@ class Geometry(NamedTuple):
                    model.visual_range, model.joint_max_deg, model.max_rotation_deg,
                    math.radians(model.field_of_view_deg) / 2,
                    math.radians(model.field_of_view_deg / n_windows), model.windows_per_unit,
-                   model.visual_units, tip_base, body_range)
+                   model.visual_units, tip_base, body_range,
+                   ANGLE_STEPS.index(model.angle_steps), model.joint_limit == "cancel")
 
     def window_edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Unit vectors (x, y) of the window edges in the eye's frame, right to left."""
@@ -352,16 +371,43 @@ def _clip01(x):
     return min(max(x, 0.0), 1.0)
 
 
+CONTINUOUS, ROUND, TRUNCATE = range(3)     # Geometry.angle_steps, in the order of ANGLE_STEPS
+
+
+@numba.njit(cache=True, inline="always")
+def stepped(degrees, angle_steps):
+    """A move as the model makes it: as computed (CONTINUOUS), or in whole degrees, rounded half
+    away from zero (ROUND: 0.5 -> 1, -0.5 -> -1) or truncated toward zero (TRUNCATE)."""
+    if angle_steps == CONTINUOUS:
+        return degrees
+    whole = math.floor(abs(degrees))
+    if angle_steps == ROUND and abs(degrees) - whole >= 0.5:
+        whole += 1.0
+    return math.copysign(whole, degrees)
+
+
+@numba.njit(cache=True, inline="always")
+def _joint_after(angle, change, geo):
+    """A joint's angle after a move: stopped at 0 or joint_max, or, under cancel_at_limit, left
+    where it was if the move would pass either ("not permitted beyond the joint limits")."""
+    moved = angle + change
+    if geo.cancel_at_limit and (moved < 0.0 or moved > geo.joint_max):
+        return angle
+    return min(max(moved, 0.0), geo.joint_max)
+
+
 @numba.njit(cache=True, inline="always")
 def move(body, shoulder, elbow, eye, s_flex, s_ext, e_flex, e_ext, geo, body_start):
     """The state after one motor command (outputs clipped to [0, 1]); the body axis stays within
     geo.body_range of its trial start (an infinite range changes nothing)."""
     eye, s_flex, s_ext = _clip01(eye), _clip01(s_flex), _clip01(s_ext)
     e_flex, e_ext = _clip01(e_flex), _clip01(e_ext)
-    body = body + 2.0 * geo.max_rotation * (eye - 0.5)
+    body = body + stepped(2.0 * geo.max_rotation * (eye - 0.5), geo.angle_steps)
     body = min(max(body, body_start - geo.body_range), body_start + geo.body_range)
-    shoulder = min(max(shoulder - geo.max_rotation * (s_flex - s_ext), 0.0), geo.joint_max)
-    elbow = min(max(elbow - geo.max_rotation * (e_flex - e_ext), 0.0), geo.joint_max)
+    shoulder = _joint_after(shoulder, stepped(-geo.max_rotation * (s_flex - s_ext),
+                                              geo.angle_steps), geo)
+    elbow = _joint_after(elbow, stepped(-geo.max_rotation * (e_flex - e_ext), geo.angle_steps),
+                         geo)
     return body, shoulder, elbow
 
 

@@ -40,8 +40,8 @@ def main() -> int:
         parser.error("--generations and --seeds must be at least 1")
 
     from econet_ros.runs import evolve_into
-    from econet_ros.science.sweep import load_spec
-    from econet_ros.science.sweep_runner import run_sweep
+    from econet_ros.science.sweeps.spec import load_spec
+    from econet_ros.science.sweeps.runner import run_sweep
 
     work = Path(tempfile.mkdtemp(prefix="econet-bench-sweep-"))
     try:

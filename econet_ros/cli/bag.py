@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..errors import UsageError
 from ..recording.bags import read_bag, replay
-from ..runs import ensure_writable
+from ..files import ensure_writable
 from .options import Parser
 
 

@@ -10,7 +10,8 @@ from pathlib import Path
 from ..errors import ResultsError, UsageError
 from ..evolution import Evaluator
 from ..plugins import resolve
-from ..runs import locked, read_json_object, run_condition, run_folder, write_atomically
+from ..files import locked, read_json_object, write_atomically
+from ..runs import run_condition, run_folder
 from .options import add_config_options, add_run_options, config_from
 
 CONTROLLER_FILE = "controller.json"   # which plug-in a run folder was evolved with

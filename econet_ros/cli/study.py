@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..config import CONDITIONS
 from ..errors import UsageError
-from ..runs import locked
+from ..files import locked
 from ..science.report import build_report, report_paths
 from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, StudySpec, run_study
 from .options import add_config_options, add_run_options, config_from, positive

@@ -6,8 +6,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..runs import ensure_writable
-from ..science.sweep import load_spec
+from ..files import ensure_writable
+from ..science.sweeps.spec import load_spec
 from .options import Parser, positive
 
 
@@ -40,7 +40,7 @@ def add_parser(commands) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..science.sweep_runner import run_sweep     # ray: late
+    from ..science.sweeps.runner import run_sweep     # ray: late
     spec = load_spec(Path(args.spec))
     ensure_writable(Path(args.out))
     done, total = run_sweep(spec, Path(args.out), address=args.address, workers=args.workers,
@@ -51,7 +51,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from ..science.sweep_report import build_sweep_report
+    from ..science.sweeps.report import build_sweep_report
     summary, notes = build_sweep_report(Path(args.folder))
     for note in notes:
         print(f"note: {note}")

@@ -35,7 +35,8 @@ from ..config import SETTINGS
 from ..errors import ConfigError
 from ..evolution import GenerationResult
 from ..plugins import resolve
-from ..runs import ensure_writable, run_condition
+from ..files import ensure_writable
+from ..runs import run_condition
 from . import graph
 from .graph_evaluator import GraphEvaluator
 from .runner import Param, declare_parameters, default_from, node_config, run_node

@@ -1,8 +1,10 @@
-"""The claims of the paper's Results section as one table, CLAIMS, each judged with statistics
-over runs: an estimate with its 95% bootstrap interval, and where two conditions or two windows
-are compared, a paired comparison over runs with its effect size. evaluate() judges a study
-group by every claim and checks every rule against two nulls. Definitions and the rules in
-full: docs/analysis.md ("Claims, re-judged"). ROS-free.
+"""The claims of the paper's Results section, each defined once where it is measured: the
+``@claim`` decorator above a measure gives the claim's key, section, the paper's words, the rule
+in words and which nulls can test it, and registers it in CLAIMS (in the order written). Each
+is judged with statistics over runs: an estimate with its 95% bootstrap interval, and where two
+conditions or two windows are compared, a paired comparison over runs with its effect size.
+evaluate() judges a study group by every claim and checks every rule against its nulls.
+Definitions and the rules in full: docs/analysis.md ("Claims, re-judged"). ROS-free.
 
 A measure takes the Evidence of a group and returns a Judged; it raises ValueError when a
 condition it needs has no data ("not measurable").
@@ -10,6 +12,11 @@ condition it needs has no data ("not measurable").
 Verdicts: "replicates" when the rule's interval criterion holds; "partly" when only its weaker
 version (usually: the right direction on average) holds; "does not" otherwise; "n/a" when the
 data needed are missing.
+
+Windows (series.Windows, at G = 200): start = gens 0-4, early = 0-19, dip = 10-49, first
+quarter = 0-49, late = 180-199. A run's window value is its mean over the window (ratios: the
+window sums divided); "CI" is the 95% bootstrap interval over runs; comparisons pair runs by
+run number (the same seed and trial starts in every condition).
 """
 from __future__ import annotations
 
@@ -19,10 +26,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .evidence import LOCK, Evidence, dominated, first_passage, share
+from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
-from .stats import Estimate, Paired, estimate
+from .stats import Estimate, Paired, estimate, share
 
 VERDICTS = ("replicates", "partly", "does not", "n/a")
 SHUFFLES = 20          # time-shuffled nulls per claim
@@ -32,6 +39,13 @@ LOCKING = "1 Joint locking"
 COACTIVATION = "2 Muscle coactivation"
 APPROACH = "3 Stereotyped approach"
 SLOWDOWN = "4 Movement slowdown"
+
+# The nulls a claim's rule can be tested on: random movement put in the normal condition's place
+# tests claims that read the normal condition (not those about random movement itself), and
+# time-shuffling tests claims about a time course (a level that holds all through training
+# survives any shuffle).
+RANDOM = "random"
+SHUFFLED = "shuffled"
 
 
 class Judged(NamedTuple):
@@ -48,19 +62,27 @@ class Claim(NamedTuple):
     paper: str                  # the paper's words
     rule: str                   # ours: when it replicates, when partly
     measure: Callable[[Evidence], Judged]
+    nulls: tuple[str, ...] = (RANDOM,)   # which nulls can test the rule (RANDOM, SHUFFLED)
     added: bool = False         # a claim the paper makes in passing, not in its original table
 
 
-# Which nulls can test a claim's rule: time-shuffling only tests claims about a time course (a
-# level that holds all through training survives any shuffle), and putting random movement in
-# the normal condition's place only tests claims that read the normal condition.
-TIME_COURSE = {"hold-still", "lock-speed", "two-joint-search", "relaxes-after-locking",
-               "coact-early-shoulder", "coact-early-elbow", "shoulder-reciprocal",
-               "elbow-coact-diminishes", "coactivation-narrows", "co-contraction",
-               "approach-increases", "nofix-above-chance", "nofix-to-chance",
-               "fix-below-chance", "fix-rises", "approach-u", "hand-slowdown", "eye-slowdown",
-               "slowdown-temporary", "less-movement", "keeps-sight", "fitness"}
-ABOUT_RANDOM = {"random-fitness", "random-chance"}
+CLAIMS: list[Claim] = []
+
+
+def claim(key: str, section: str, paper: str, rule: str, *, nulls: tuple[str, ...],
+          added: bool = False, **arguments) -> Callable:
+    """Define the claim that the decorated measure judges (``arguments`` are passed to it, for a
+    measure shared by two claims). Claims keep the order they are written in: Python evaluates
+    stacked decorators' expressions top to bottom, so each claim takes its place in CLAIMS
+    here and gets its measure when the decorator is applied."""
+    place = len(CLAIMS)
+    CLAIMS.append(None)
+
+    def register(measure: Callable) -> Callable:
+        judged_by = partial(measure, **arguments) if arguments else measure
+        CLAIMS[place] = Claim(key, section, paper, rule, judged_by, nulls, added)
+        return measure
+    return register
 
 
 class Nulls(NamedTuple):
@@ -112,12 +134,12 @@ def null_checks(claim: Claim, evidence: Evidence) -> Nulls:
     """How the claim's rule judges data on which it should not hold ("-" and NaN where a null
     cannot test it)."""
     random = "-"
-    if claim.key not in ABOUT_RANDOM:
+    if RANDOM in claim.nulls:
         try:
             random = judge(claim, evidence.random_as_normal()).verdict
         except ValueError:
             random = "n/a"
-    if claim.key not in TIME_COURSE:
+    if SHUFFLED not in claim.nulls:
         return Nulls(random, np.nan)
     rng = np.random.default_rng(0)
     shuffled = [judge(claim, evidence.shuffled(rng)).verdict for _ in range(SHUFFLES)]
@@ -148,6 +170,13 @@ def rises(what: str, p: Paired, digits: int = 3) -> Judged:
 
 
 # -- overall performance (Figure 3) ---------------------------------------------------------
+@claim("fitness", PERFORMANCE,
+       "Four-layer econets learn faster than three-layer ones, with higher fitness from "
+       "virtually the start of training (Fig 3a)",
+       "replicates: late fitness normal - three-layer has CI > 0 and normal is ahead early in "
+       ">= 80% of paired runs; partly: either the late difference > 0 on average or ahead "
+       "early in >= 80%",
+       nulls=(RANDOM, SHUFFLED))
 def fitness_ahead(ev: Evidence) -> Judged:
     w = ev.windows
     late = ev.compare(("normal", "top_fitness", w.final), ("three-layer", "top_fitness", w.final))
@@ -159,6 +188,11 @@ def fitness_ahead(ev: Evidence) -> Judged:
                   late.diff, late, "normal - three-layer, late top-20 fitness")
 
 
+@claim("latency", PERFORMANCE,
+       "Only a small difference between four- and three-layer econets in latency (Fig 3c)",
+       "late latency normal - three-layer (a miss counts as the trial length, as in Fig 3c): "
+       "replicates when its CI lies within +-10% of the trial; partly: its mean does",
+       nulls=(RANDOM,))
 def latency_close(ev: Evidence) -> Judged:
     w, cycles = ev.windows, ev.run_config("normal").evolution.cycles
     late = ev.compare(("normal", "top_latency", w.final), ("three-layer", "top_latency", w.final))
@@ -168,12 +202,22 @@ def latency_close(ev: Evidence) -> Judged:
                   late.diff, late, "normal - three-layer, late top-20 latency")
 
 
+@claim("successes", PERFORMANCE,
+       "Three-layer econets average fewer successful trials than four-layer ones (Fig 3b)",
+       "late successful trials normal - three-layer: replicates CI > 0; partly mean > 0",
+       nulls=(RANDOM,))
 def fewer_successes(ev: Evidence) -> Judged:
     w = ev.windows
     return rises("late successful trials, normal - three-layer", ev.compare(
         ("normal", "top_successes", w.final), ("three-layer", "top_successes", w.final)), 2)
 
 
+@claim("separations", PERFORMANCE,
+       "After reaching the object, three-layer econets lose contact more often than "
+       "four-layer ones (Fig 3d)",
+       "per reach: late separations per successful trial, three-layer - normal: replicates "
+       "CI > 0; partly mean > 0",
+       nulls=(RANDOM,))
 def more_separations(ev: Evidence) -> Judged:
     w = ev.windows
     per = [ev.ratio(c, "top_separations", "top_successes", w.final)
@@ -186,6 +230,12 @@ def more_separations(ev: Evidence) -> Judged:
                   late, "three-layer - normal, late separations per successful trial")
 
 
+@claim("separations-chance", PERFORMANCE,
+       "Three-layer econets average roughly as many separations as expected by chance "
+       "(random condition)",
+       "late separations per successful trial, three-layer - random: replicates when its CI "
+       "lies within +-50% of random's mean; partly: its mean does",
+       nulls=(RANDOM,))
 def separations_at_chance(ev: Evidence) -> Judged:
     w = ev.windows
     t = ev.ratio("three-layer", "top_separations", "top_successes", w.final)
@@ -198,6 +248,11 @@ def separations_at_chance(ev: Evidence) -> Judged:
                   diff.diff, diff, "three-layer - random, late separations per successful trial")
 
 
+@claim("random-fitness", PERFORMANCE,
+       "Average fitness in the random-movement condition remains near zero (Fig 3a)",
+       "late top-20 fitness of random movement, against the most an econet can score "
+       "(trials x cycles): replicates CI upper bound <= 1%; partly mean <= 5%",
+       nulls=())
 def random_fitness_low(ev: Evidence) -> Judged:
     e = ev.run_config("random").evolution
     most = e.trials * e.cycles
@@ -208,6 +263,12 @@ def random_fitness_low(ev: Evidence) -> Judged:
                           late.mean <= 0.05 * most), late)
 
 
+@claim("hold-still", PERFORMANCE,
+       "The capacity to 'hold still' once the object is reached emerges early (Fig 3d; "
+       "Discussion of Fig 9)",
+       "normal separations per successful trial, start window - dip window (window sums): "
+       "replicates CI > 0; partly mean > 0",
+       nulls=(RANDOM, SHUFFLED))
 def holds_still_early(ev: Evidence) -> Judged:
     w = ev.windows
     start, dip = (ev.ratio("normal", "top_separations", "top_successes", window)
@@ -217,12 +278,23 @@ def holds_still_early(ev: Evidence) -> Judged:
 
 
 # -- 1 joint locking (Figures 4, 5) ----------------------------------------------------------
+@claim("shoulder-locked", LOCKING,
+       "The shoulder locks in all runs: one shoulder muscle becomes dominant (virtually "
+       "100% of movements one way) (Fig 4)",
+       f"locked = late shoulder flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}% of cycles; "
+       "replicates: every normal run; partly: at least half",
+       nulls=(RANDOM,))
 def shoulder_locked(ev: Evidence) -> Judged:
     locked = share([r["locked"] for r in ev.joints()])
     return Judged(f"share of runs with the shoulder locked: {locked.text()}",
                   verdict(locked.mean == 1.0, locked.mean >= 0.5), locked)
 
 
+@claim("lock-position", LOCKING,
+       "In 8 of 10 runs the shoulder is held fully extended, in the other 2 fully flexed",
+       "a locked shoulder's position from its late mean angle (>= 135 deg extended, <= 45 "
+       "flexed); replicates: >= 70% of runs extended; partly: more extended than flexed",
+       nulls=(RANDOM,))
 def lock_position(ev: Evidence) -> Judged:
     rows = ev.joints()
     extended = share([r["position"] == "extended" for r in rows])
@@ -232,6 +304,12 @@ def lock_position(ev: Evidence) -> Judged:
                   verdict(extended.mean >= 0.7, extended.mean * len(rows) > flexed), extended)
 
 
+@claim("lock-speed", LOCKING,
+       "One of the two shoulder muscles quickly becomes dominant",
+       "first passage: the first generation the shoulder's flexion, smoothed over G/20, is "
+       "dominated; replicates: at least half the runs lock and the mean first passage has "
+       "CI <= G/4; partly: mean <= G/2",
+       nulls=(RANDOM, SHUFFLED))
 def lock_speed(ev: Evidence) -> Judged:
     gens = np.array([r["lock_generation"] for r in ev.joints()], dtype=float)
     locking = np.isfinite(gens)
@@ -247,6 +325,13 @@ def lock_speed(ev: Evidence) -> Judged:
 MOBILE = 0.2           # a joint is mobile when it moves in at least this share of cycles
 
 
+@claim("elbow-compliant", LOCKING,
+       "The elbow stays compliant: in 9 of 10 runs neither elbow muscle consistently "
+       "dominates (Fig 5)",
+       f"compliant = late elbow flexion strictly between {LOCK:.0f}% and {100 - LOCK:.0f}% "
+       f"and the elbow moving (> 0.5 deg) in >= {MOBILE:.0%} of cycles (an elbow frozen by "
+       "coactivation is not compliant); replicates: >= 80% of runs; partly: half",
+       nulls=(RANDOM,))
 def elbow_compliant(ev: Evidence) -> Judged:
     rows = ev.joints()
     compliant = share([np.isfinite(r["elbow_flexion"]) and not dominated(r["elbow_flexion"])
@@ -257,6 +342,11 @@ def elbow_compliant(ev: Evidence) -> Judged:
                   verdict(compliant.mean >= 0.8, compliant.mean >= 0.5), compliant)
 
 
+@claim("others-mobile", LOCKING,
+       "The shoulder locks while the body axis and the elbow stay mobile",
+       f"late share of cycles each joint moves: replicates when the shoulder's CI < 0.1 and "
+       f"the body's and elbow's CIs > {MOBILE}; partly: the means",
+       nulls=(RANDOM,), added=True)
 def others_mobile(ev: Evidence) -> Judged:
     final = ev.windows.final
     moving = {j: ev.estimate("normal", f"all_{j}_moving", final)
@@ -269,6 +359,11 @@ def others_mobile(ev: Evidence) -> Judged:
         f"{j} {e.text()}" for j, e in moving.items()), verdict(full, part), moving["shoulder"])
 
 
+@claim("two-joint-search", LOCKING,
+       "Locking the shoulder reduces the search from three joints to two",
+       "shoulder moving share late - early CI < 0 and, in >= 80% of runs, late only body "
+       "and elbow mobile; partly: the shoulder moves less late on average",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def two_joint_search(ev: Evidence) -> Judged:
     w = ev.windows
     drop = ev.compare(("normal", "all_shoulder_moving", w.final),
@@ -283,6 +378,12 @@ def two_joint_search(ev: Evidence) -> Judged:
                           drop.diff.mean < 0), two, drop, "late - early, shoulder moving share")
 
 
+@claim("relaxes-after-locking", LOCKING,
+       "The shoulder muscles relax (reciprocal activation) only once the joint is locked",
+       "per run: the first passage of the smoothed shoulder to reciprocal (its deviation "
+       "from reciprocal below that from coactivation) comes no earlier than its lock; "
+       "replicates: >= 80% of the runs that do both; partly: half",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def relaxes_after_locking(ev: Evidence) -> Judged:
     data = ev.condition("normal")
     k = max(1, ev.G // 20)
@@ -301,7 +402,16 @@ def relaxes_after_locking(ev: Evidence) -> Judged:
 
 
 # -- 2 coactivation (Figures 6, 7) -----------------------------------------------------------
-def early_coactivation(joint: str, ev: Evidence) -> Judged:
+@claim("coact-early-shoulder", COACTIVATION,
+       "Early in learning, coactivation predominates in the shoulder muscles (Fig 7a)",
+       "early window (gens 0-19), deviation from reciprocal - from coactivation: replicates "
+       "CI > 0; partly mean > 0 (the start window and the first quarter are reported too)",
+       nulls=(RANDOM, SHUFFLED), joint="shoulder")
+@claim("coact-early-elbow", COACTIVATION,
+       "Early in learning, coactivation predominates in the elbow muscles (Fig 7b)",
+       "as coact-early-shoulder, for the elbow",
+       nulls=(RANDOM, SHUFFLED), joint="elbow")
+def early_coactivation(ev: Evidence, joint: str) -> Judged:
     w = ev.windows
     texts, main = [], None
     for window in (w.early, w.start, w.first_quarter):        # the rule's, and two more
@@ -314,6 +424,11 @@ def early_coactivation(joint: str, ev: Evidence) -> Judged:
                   f"early {joint}: reciprocal - coactivation deviation")
 
 
+@claim("shoulder-reciprocal", COACTIVATION,
+       "The shoulder muscles shift to the reciprocal activation pattern (Fig 7a)",
+       "late, deviation from coactivation - from reciprocal: replicates CI > 0; partly: the "
+       "deviation from reciprocal falls from early to late on average",
+       nulls=(RANDOM, SHUFFLED))
 def shoulder_turns_reciprocal(ev: Evidence) -> Judged:
     w = ev.windows
     late = ev.compare(("normal", "top_shoulder_coact", w.final),
@@ -326,6 +441,12 @@ def shoulder_turns_reciprocal(ev: Evidence) -> Judged:
                   "late shoulder: coactivation - reciprocal deviation")
 
 
+@claim("elbow-coactivated", COACTIVATION,
+       "The elbow muscles remain coactivated: coactivation stays the dominant pattern "
+       "throughout training (Fig 7b)",
+       "deviation from reciprocal - from coactivation, early and late: replicates both CIs "
+       "> 0; partly: late mean > 0",
+       nulls=(RANDOM,))
 def elbow_stays_coactivated(ev: Evidence) -> Judged:
     w = ev.windows
     gaps = [ev.compare(("normal", "top_elbow_recip", win), ("normal", "top_elbow_coact", win))
@@ -336,12 +457,22 @@ def elbow_stays_coactivated(ev: Evidence) -> Judged:
                   gaps[1].diff, gaps[1], "late elbow: reciprocal - coactivation deviation")
 
 
+@claim("elbow-coact-diminishes", COACTIVATION,
+       "Elbow coactivation slowly diminishes over learning",
+       "elbow deviation from coactivation, late - early: replicates CI > 0; partly mean > 0",
+       nulls=(RANDOM, SHUFFLED))
 def elbow_coactivation_diminishes(ev: Evidence) -> Judged:
     w = ev.windows
     return rises("elbow deviation from coactivation, late - early", ev.compare(
         ("normal", "top_elbow_coact", w.final), ("normal", "top_elbow_coact", w.early)))
 
 
+@claim("coactivation-narrows", COACTIVATION,
+       "Early coactivation stiffens the joints, reducing the range of arm movements",
+       "early, random - normal (random movement as the unconstrained baseline): deviation "
+       "from coactivation of both joints and per-trial excursion of both joints; replicates: "
+       "all four CIs > 0; partly: all four means > 0",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def coactivation_narrows(ev: Evidence) -> Judged:
     early = ev.windows.early
     less_co = [ev.compare(("random", f"top_{j}_coact", early), ("normal", f"top_{j}_coact", early))
@@ -356,6 +487,11 @@ def coactivation_narrows(ev: Evidence) -> Judged:
                   narrower[1].diff, narrower[1], "random - normal, early elbow excursion")
 
 
+@claim("co-contraction", COACTIVATION,
+       "Coactivation here is co-contraction (both muscles active), which stiffens the joint",
+       "early share of cycles with both muscles above 0.5 - both below: replicates CI > 0 "
+       "at shoulder and elbow; partly: mean > 0 at either",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def cocontraction(ev: Evidence) -> Judged:
     early = ev.windows.early
     gaps = [ev.compare(("normal", f"top_{j}_cocontraction", early),
@@ -367,12 +503,22 @@ def cocontraction(ev: Evidence) -> Judged:
 
 
 # -- 3 stereotyped approach movements (Figure 8, lesion) -------------------------------------
+@claim("approach-increases", APPROACH,
+       "Approach movements become more direct: the probability of approaching a fixated "
+       "object increases with learning (Fig 8)",
+       "P(approach | fixated), late - early: replicates CI > 0; partly mean > 0",
+       nulls=(RANDOM, SHUFFLED))
 def approach_increases(ev: Evidence) -> Judged:
     w = ev.windows
     return rises("P(approach | fixated), late - early", ev.compare(
         ("normal", "top_approach_fix", w.final), ("normal", "top_approach_fix", w.early)))
 
 
+@claim("away-25", APPROACH,
+       "Even near the end of training roughly 25% of movements are directed away from the "
+       "target",
+       "late P(away | fixated): replicates CI within 0.15-0.35; partly: mean within",
+       nulls=(RANDOM,))
 def quarter_away(ev: Evidence) -> Judged:
     away = ev.estimate("normal", "top_away_fix", ev.windows.final)
     return Judged(f"late P(away | fixated) {away.text(3)}",
@@ -384,6 +530,12 @@ def _start_spread(ev: Evidence) -> Estimate:
                      for s in ev.reaches("intact")])
 
 
+@claim("stereotyped-start", APPROACH,
+       "Direct reaches are preceded by a stereotyped preparatory movement that brings the "
+       "hand back to the same initial position",
+       "lesion test, intact: reach-start spread / spread of hand positions at trial start "
+       "(body frame), per run: replicates mean < 0.5 and CI < 0.8; partly mean < 0.8",
+       nulls=(RANDOM,))
 def stereotyped_start(ev: Evidence) -> Judged:
     ratio = _start_spread(ev)
     return Judged(f"reach-start spread / trial-start spread (body frame, intact) {ratio.text()}",
@@ -396,6 +548,12 @@ LESION_HARMS = [("approach probability", "approach_prob", -1),     # (label, mea
                 ("turning per cycle", "turning", +1), ("success rate", "success_rate", -1)]
 
 
+@claim("lesion-disorganised", APPROACH,
+       "Severing the proprioceptive inputs after training disrupts approach movements "
+       "(jerky, disorganised)",
+       "lesioned - intact per run, for P(approach), path efficiency, turning, success rate: "
+       "replicates when >= 3 get worse with CI excluding 0; partly: >= 2 worse on average",
+       nulls=(RANDOM,))
 def lesion_disorganises(ev: Evidence) -> Judged:
     intact, lesioned = ev.reaches("intact"), ev.reaches("lesioned")
     texts, clear, average = [], 0, 0
@@ -413,6 +571,12 @@ def lesion_disorganises(ev: Evidence) -> Judged:
                   verdict(clear >= 3, average >= 2), estimate(worse_per_run))
 
 
+@claim("lesion-start", APPROACH,
+       "After the lesion, reaches are no longer initiated from the same position",
+       "presupposes stereotyped-start (does not when it does not); reach-start spread "
+       "lesioned - intact: replicates CI > 0 with stereotyped-start replicating; partly "
+       "mean > 0",
+       nulls=(RANDOM,))
 def lesion_scatters_start(ev: Evidence) -> Judged:
     premise = stereotyped_start(ev).verdict
     spread = ev.paired({i: s.start_spread_body for i, s in enumerate(ev.reaches("lesioned"))},
@@ -428,6 +592,12 @@ def lesion_scatters_start(ev: Evidence) -> Judged:
 
 
 # -- 4 movement slowdown (Figures 8, 9) ------------------------------------------------------
+@claim("random-chance", SLOWDOWN,
+       "The probability of an approach movement at random (random condition) is 0.5 "
+       "(Fig 8)",
+       "random P(approach | fixated) over all generations: replicates CI within 0.45-0.55; "
+       "partly mean within",
+       nulls=())
 def random_at_chance(ev: Evidence) -> Judged:
     chance = ev.estimate("random", "top_approach_fix", slice(0, ev.G))
     return Judged(f"random P(approach | fixated), all generations {chance.text(3)}",
@@ -435,6 +605,11 @@ def random_at_chance(ev: Evidence) -> Judged:
                           abs(chance.mean - CHANCE) <= 0.05), chance)
 
 
+@claim("nofix-above-chance", SLOWDOWN,
+       "Initially, approach movements during non-fixation are above chance (arm entrained "
+       "with eye rotation) (Fig 8)",
+       "early P(approach | not fixated): replicates CI > 0.5; partly mean > 0.5",
+       nulls=(RANDOM, SHUFFLED))
 def unfixated_above_chance(ev: Evidence) -> Judged:
     early = ev.estimate("normal", "top_approach_nofix", ev.windows.early)
     return Judged(f"early P(approach | not fixated) {early.text(3)}",
@@ -442,6 +617,11 @@ def unfixated_above_chance(ev: Evidence) -> Judged:
                   early)
 
 
+@claim("nofix-to-chance", SLOWDOWN,
+       "Non-fixated approach probability later declines to chance level (Fig 8)",
+       "late P(approach | not fixated): replicates CI within 0.45-0.55; partly: below its "
+       "early value on average",
+       nulls=(RANDOM, SHUFFLED))
 def unfixated_to_chance(ev: Evidence) -> Judged:
     w = ev.windows
     late = ev.estimate("normal", "top_approach_nofix", w.final)
@@ -451,6 +631,11 @@ def unfixated_to_chance(ev: Evidence) -> Judged:
                   verdict(inside(late, CHANCE - 0.05, CHANCE + 0.05), fall.diff.mean > 0), late)
 
 
+@claim("fix-below-chance", SLOWDOWN,
+       "Fixated approach movements remain below chance during the first 50 generations "
+       "(sight of the object suppresses approach)",
+       "P(approach | fixated) over the first quarter: replicates CI < 0.5; partly mean < 0.5",
+       nulls=(RANDOM, SHUFFLED))
 def fixated_below_chance(ev: Evidence) -> Judged:
     quarter = ev.estimate("normal", "top_approach_fix", ev.windows.first_quarter)
     return Judged(f"P(approach | fixated), first quarter {quarter.text(3)}",
@@ -458,6 +643,11 @@ def fixated_below_chance(ev: Evidence) -> Judged:
                   quarter)
 
 
+@claim("fix-rises", SLOWDOWN,
+       "After the initial decline, fixated approach movements steadily increase (Fig 8)",
+       "P(approach | fixated), late - first quarter: replicates CI > 0 and late mean > 0.5; "
+       "partly CI > 0",
+       nulls=(RANDOM, SHUFFLED))
 def fixated_rises(ev: Evidence) -> Judged:
     w = ev.windows
     rise = ev.compare(("normal", "top_approach_fix", w.final),
@@ -468,6 +658,12 @@ def fixated_rises(ev: Evidence) -> Judged:
                   rise.diff, rise, "late - first quarter, P(approach | fixated)")
 
 
+@claim("approach-u", SLOWDOWN,
+       "Fixated approach first declines, then rises (one U-shaped course, von Hofsten's "
+       "sequence)",
+       "P(approach | fixated): start - dip and late - dip, replicates both CIs > 0; partly "
+       "one",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def approach_u(ev: Evidence) -> Judged:
     w = ev.windows
     column = "top_approach_fix"
@@ -479,7 +675,16 @@ def approach_u(ev: Evidence) -> Judged:
                   down.diff, down, f"{w.label(w.start)} - {w.label(w.dip)}, P(approach | fixated)")
 
 
-def early_slowdown(kind: str, ev: Evidence) -> Judged:
+@claim("hand-slowdown", SLOWDOWN,
+       "Sight of the object is associated with an early slowdown of hand movements "
+       "(Fig 9a)",
+       "fixated hand speed, start window - dip window: replicates CI > 0; partly mean > 0",
+       nulls=(RANDOM, SHUFFLED), kind="hand")
+@claim("eye-slowdown", SLOWDOWN,
+       "... and of head/eye movements (Fig 9b)",
+       "as hand-slowdown, for the eye (body-axis) speed",
+       nulls=(RANDOM, SHUFFLED), kind="eye")
+def early_slowdown(ev: Evidence, kind: str) -> Judged:
     w = ev.windows
     column = f"top_{kind}_speed_fix"
     unit = "units" if kind == "hand" else "deg"
@@ -488,12 +693,17 @@ def early_slowdown(kind: str, ev: Evidence) -> Judged:
                                                  ("normal", column, w.dip)), 2)
 
 
+@claim("slowdown-temporary", SLOWDOWN,
+       "The slowdown is early and short-lived (speeds recover later)",
+       "per speed (hand, eye) with an early slowdown: late - dip CI > 0; replicates both; "
+       "partly one",
+       nulls=(RANDOM, SHUFFLED))
 def slowdown_temporary(ev: Evidence) -> Judged:
     w = ev.windows
     recoveries = {kind: ev.compare(("normal", f"top_{kind}_speed_fix", w.final),
                                    ("normal", f"top_{kind}_speed_fix", w.dip))
                   for kind in ("hand", "eye")}
-    dipped = {kind: early_slowdown(kind, ev).verdict != "does not" for kind in recoveries}
+    dipped = {kind: early_slowdown(ev, kind).verdict != "does not" for kind in recoveries}
     clear = sum(dipped[k] and positive(p) for k, p in recoveries.items())
     return Judged("speed while fixating, late - dip: " + "; ".join(
         f"{k} {said(p)}" + ("" if dipped[k] else " (no early dip)")
@@ -501,6 +711,12 @@ def slowdown_temporary(ev: Evidence) -> Judged:
         recoveries["hand"].diff, recoveries["hand"], "late - dip, hand speed while fixating")
 
 
+@claim("less-movement", SLOWDOWN,
+       "The early dip in fixated approach reflects less movement overall (explanation a), "
+       "not more movement away (b)",
+       "start - dip fixated hand speed CI > 0 and P(away | fixated) rising by at most 0.02 "
+       "on average: replicates; partly: the speed drop alone",
+       nulls=(RANDOM, SHUFFLED))
 def less_movement(ev: Evidence) -> Judged:
     w = ev.windows
     slower = ev.compare(("normal", "top_hand_speed_fix", w.start),
@@ -512,6 +728,11 @@ def less_movement(ev: Evidence) -> Judged:
                   slower.diff, slower, "start - dip, hand speed while fixating")
 
 
+@claim("keeps-sight", SLOWDOWN,
+       "The slowdown may come from learning to keep sight of the object once fixated",
+       "share of pre-contact cycles with the object fixated, dip - start: replicates CI > 0; "
+       "partly mean > 0",
+       nulls=(RANDOM, SHUFFLED), added=True)
 def keeps_sight(ev: Evidence) -> Judged:
     w = ev.windows
     return rises("share of pre-contact cycles with the object in sight, dip - start",
@@ -522,192 +743,3 @@ def _fixation_share(ev: Evidence, window: slice) -> dict[str, float]:
     fix = ev.per_run("normal", "top_fix_cycles", window)
     other = ev.per_run("normal", "top_nofix_cycles", window)
     return {k: fix[k] / (fix[k] + other[k]) if fix[k] + other[k] > 0 else np.nan for k in fix}
-
-
-# -- the table ---------------------------------------------------------------------------------
-# Windows (series.Windows, at G = 200): start = gens 0-4, early = 0-19, dip = 10-49, first
-# quarter = 0-49, late = 180-199. A run's window value is its mean over the window (ratios: the
-# window sums divided); "CI" is the 95% bootstrap interval over runs; comparisons pair runs by
-# run number (the same seed and trial starts in every condition).
-CLAIMS = [
-    Claim("fitness", PERFORMANCE,
-          "Four-layer econets learn faster than three-layer ones, with higher fitness from "
-          "virtually the start of training (Fig 3a)",
-          "replicates: late fitness normal - three-layer has CI > 0 and normal is ahead early in "
-          ">= 80% of paired runs; partly: either the late difference > 0 on average or ahead "
-          "early in >= 80%", fitness_ahead),
-    Claim("latency", PERFORMANCE,
-          "Only a small difference between four- and three-layer econets in latency (Fig 3c)",
-          "late latency normal - three-layer (a miss counts as the trial length, as in Fig 3c): "
-          "replicates when its CI lies within +-10% of the trial; partly: its mean does",
-          latency_close),
-    Claim("successes", PERFORMANCE,
-          "Three-layer econets average fewer successful trials than four-layer ones (Fig 3b)",
-          "late successful trials normal - three-layer: replicates CI > 0; partly mean > 0",
-          fewer_successes),
-    Claim("separations", PERFORMANCE,
-          "After reaching the object, three-layer econets lose contact more often than "
-          "four-layer ones (Fig 3d)",
-          "per reach: late separations per successful trial, three-layer - normal: replicates "
-          "CI > 0; partly mean > 0", more_separations),
-    Claim("separations-chance", PERFORMANCE,
-          "Three-layer econets average roughly as many separations as expected by chance "
-          "(random condition)",
-          "late separations per successful trial, three-layer - random: replicates when its CI "
-          "lies within +-50% of random's mean; partly: its mean does", separations_at_chance),
-    Claim("random-fitness", PERFORMANCE,
-          "Average fitness in the random-movement condition remains near zero (Fig 3a)",
-          "late top-20 fitness of random movement, against the most an econet can score "
-          "(trials x cycles): replicates CI upper bound <= 1%; partly mean <= 5%",
-          random_fitness_low),
-    Claim("hold-still", PERFORMANCE,
-          "The capacity to 'hold still' once the object is reached emerges early (Fig 3d; "
-          "Discussion of Fig 9)",
-          "normal separations per successful trial, start window - dip window (window sums): "
-          "replicates CI > 0; partly mean > 0", holds_still_early),
-    Claim("shoulder-locked", LOCKING,
-          "The shoulder locks in all runs: one shoulder muscle becomes dominant (virtually "
-          "100% of movements one way) (Fig 4)",
-          f"locked = late shoulder flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}% of cycles; "
-          "replicates: every normal run; partly: at least half", shoulder_locked),
-    Claim("lock-position", LOCKING,
-          "In 8 of 10 runs the shoulder is held fully extended, in the other 2 fully flexed",
-          "a locked shoulder's position from its late mean angle (>= 135 deg extended, <= 45 "
-          "flexed); replicates: >= 70% of runs extended; partly: more extended than flexed",
-          lock_position),
-    Claim("lock-speed", LOCKING,
-          "One of the two shoulder muscles quickly becomes dominant",
-          "first passage: the first generation the shoulder's flexion, smoothed over G/20, is "
-          "dominated; replicates: at least half the runs lock and the mean first passage has "
-          "CI <= G/4; partly: mean <= G/2", lock_speed),
-    Claim("elbow-compliant", LOCKING,
-          "The elbow stays compliant: in 9 of 10 runs neither elbow muscle consistently "
-          "dominates (Fig 5)",
-          f"compliant = late elbow flexion strictly between {LOCK:.0f}% and {100 - LOCK:.0f}% "
-          f"and the elbow moving (> 0.5 deg) in >= {MOBILE:.0%} of cycles (an elbow frozen by "
-          "coactivation is not compliant); replicates: >= 80% of runs; partly: half",
-          elbow_compliant),
-    Claim("others-mobile", LOCKING,
-          "The shoulder locks while the body axis and the elbow stay mobile",
-          f"late share of cycles each joint moves: replicates when the shoulder's CI < 0.1 and "
-          f"the body's and elbow's CIs > {MOBILE}; partly: the means", others_mobile,
-          added=True),
-    Claim("two-joint-search", LOCKING,
-          "Locking the shoulder reduces the search from three joints to two",
-          "shoulder moving share late - early CI < 0 and, in >= 80% of runs, late only body "
-          "and elbow mobile; partly: the shoulder moves less late on average",
-          two_joint_search, added=True),
-    Claim("relaxes-after-locking", LOCKING,
-          "The shoulder muscles relax (reciprocal activation) only once the joint is locked",
-          "per run: the first passage of the smoothed shoulder to reciprocal (its deviation "
-          "from reciprocal below that from coactivation) comes no earlier than its lock; "
-          "replicates: >= 80% of the runs that do both; partly: half",
-          relaxes_after_locking, added=True),
-    Claim("coact-early-shoulder", COACTIVATION,
-          "Early in learning, coactivation predominates in the shoulder muscles (Fig 7a)",
-          "early window (gens 0-19), deviation from reciprocal - from coactivation: replicates "
-          "CI > 0; partly mean > 0 (the start window and the first quarter are reported too)",
-          partial(early_coactivation, "shoulder")),
-    Claim("coact-early-elbow", COACTIVATION,
-          "Early in learning, coactivation predominates in the elbow muscles (Fig 7b)",
-          "as coact-early-shoulder, for the elbow", partial(early_coactivation, "elbow")),
-    Claim("shoulder-reciprocal", COACTIVATION,
-          "The shoulder muscles shift to the reciprocal activation pattern (Fig 7a)",
-          "late, deviation from coactivation - from reciprocal: replicates CI > 0; partly: the "
-          "deviation from reciprocal falls from early to late on average",
-          shoulder_turns_reciprocal),
-    Claim("elbow-coactivated", COACTIVATION,
-          "The elbow muscles remain coactivated: coactivation stays the dominant pattern "
-          "throughout training (Fig 7b)",
-          "deviation from reciprocal - from coactivation, early and late: replicates both CIs "
-          "> 0; partly: late mean > 0", elbow_stays_coactivated),
-    Claim("elbow-coact-diminishes", COACTIVATION,
-          "Elbow coactivation slowly diminishes over learning",
-          "elbow deviation from coactivation, late - early: replicates CI > 0; partly mean > 0",
-          elbow_coactivation_diminishes),
-    Claim("coactivation-narrows", COACTIVATION,
-          "Early coactivation stiffens the joints, reducing the range of arm movements",
-          "early, random - normal (random movement as the unconstrained baseline): deviation "
-          "from coactivation of both joints and per-trial excursion of both joints; replicates: "
-          "all four CIs > 0; partly: all four means > 0", coactivation_narrows, added=True),
-    Claim("co-contraction", COACTIVATION,
-          "Coactivation here is co-contraction (both muscles active), which stiffens the joint",
-          "early share of cycles with both muscles above 0.5 - both below: replicates CI > 0 "
-          "at shoulder and elbow; partly: mean > 0 at either", cocontraction, added=True),
-    Claim("approach-increases", APPROACH,
-          "Approach movements become more direct: the probability of approaching a fixated "
-          "object increases with learning (Fig 8)",
-          "P(approach | fixated), late - early: replicates CI > 0; partly mean > 0",
-          approach_increases),
-    Claim("away-25", APPROACH,
-          "Even near the end of training roughly 25% of movements are directed away from the "
-          "target",
-          "late P(away | fixated): replicates CI within 0.15-0.35; partly: mean within",
-          quarter_away),
-    Claim("stereotyped-start", APPROACH,
-          "Direct reaches are preceded by a stereotyped preparatory movement that brings the "
-          "hand back to the same initial position",
-          "lesion test, intact: reach-start spread / spread of hand positions at trial start "
-          "(body frame), per run: replicates mean < 0.5 and CI < 0.8; partly mean < 0.8",
-          stereotyped_start),
-    Claim("lesion-disorganised", APPROACH,
-          "Severing the proprioceptive inputs after training disrupts approach movements "
-          "(jerky, disorganised)",
-          "lesioned - intact per run, for P(approach), path efficiency, turning, success rate: "
-          "replicates when >= 3 get worse with CI excluding 0; partly: >= 2 worse on average",
-          lesion_disorganises),
-    Claim("lesion-start", APPROACH,
-          "After the lesion, reaches are no longer initiated from the same position",
-          "presupposes stereotyped-start (does not when it does not); reach-start spread "
-          "lesioned - intact: replicates CI > 0 with stereotyped-start replicating; partly "
-          "mean > 0", lesion_scatters_start),
-    Claim("random-chance", SLOWDOWN,
-          "The probability of an approach movement at random (random condition) is 0.5 "
-          "(Fig 8)",
-          "random P(approach | fixated) over all generations: replicates CI within 0.45-0.55; "
-          "partly mean within", random_at_chance),
-    Claim("nofix-above-chance", SLOWDOWN,
-          "Initially, approach movements during non-fixation are above chance (arm entrained "
-          "with eye rotation) (Fig 8)",
-          "early P(approach | not fixated): replicates CI > 0.5; partly mean > 0.5",
-          unfixated_above_chance),
-    Claim("nofix-to-chance", SLOWDOWN,
-          "Non-fixated approach probability later declines to chance level (Fig 8)",
-          "late P(approach | not fixated): replicates CI within 0.45-0.55; partly: below its "
-          "early value on average", unfixated_to_chance),
-    Claim("fix-below-chance", SLOWDOWN,
-          "Fixated approach movements remain below chance during the first 50 generations "
-          "(sight of the object suppresses approach)",
-          "P(approach | fixated) over the first quarter: replicates CI < 0.5; partly mean < 0.5",
-          fixated_below_chance),
-    Claim("fix-rises", SLOWDOWN,
-          "After the initial decline, fixated approach movements steadily increase (Fig 8)",
-          "P(approach | fixated), late - first quarter: replicates CI > 0 and late mean > 0.5; "
-          "partly CI > 0", fixated_rises),
-    Claim("approach-u", SLOWDOWN,
-          "Fixated approach first declines, then rises (one U-shaped course, von Hofsten's "
-          "sequence)",
-          "P(approach | fixated): start - dip and late - dip, replicates both CIs > 0; partly "
-          "one", approach_u, added=True),
-    Claim("hand-slowdown", SLOWDOWN,
-          "Sight of the object is associated with an early slowdown of hand movements "
-          "(Fig 9a)",
-          "fixated hand speed, start window - dip window: replicates CI > 0; partly mean > 0",
-          partial(early_slowdown, "hand")),
-    Claim("eye-slowdown", SLOWDOWN,
-          "... and of head/eye movements (Fig 9b)",
-          "as hand-slowdown, for the eye (body-axis) speed", partial(early_slowdown, "eye")),
-    Claim("slowdown-temporary", SLOWDOWN,
-          "The slowdown is early and short-lived (speeds recover later)",
-          "per speed (hand, eye) with an early slowdown: late - dip CI > 0; replicates both; "
-          "partly one", slowdown_temporary),
-    Claim("less-movement", SLOWDOWN,
-          "The early dip in fixated approach reflects less movement overall (explanation a), "
-          "not more movement away (b)",
-          "start - dip fixated hand speed CI > 0 and P(away | fixated) rising by at most 0.02 "
-          "on average: replicates; partly: the speed drop alone", less_movement),
-    Claim("keeps-sight", SLOWDOWN,
-          "The slowdown may come from learning to keep sight of the object once fixated",
-          "share of pre-contact cycles with the object fixated, dip - start: replicates CI > 0; "
-          "partly mean > 0", keeps_sight, added=True),
-]

@@ -28,9 +28,9 @@ import numpy as np
 from ..config import CONDITIONS, Config, ConfigError
 from ..errors import ResultsError
 from ..evolution import Evaluator
-from ..runs import (METRIC_COLUMNS, RunData, append_row, cut_table, evolve_into,
-                    finished_generations, read_json_object, replay, run_folder, start_table,
-                    stored_whole_number, table_rows, write_atomically)
+from ..files import (append_row, cut_table, read_json_object, start_table,
+                     stored_whole_number, table_rows, write_atomically)
+from ..runs import METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay, run_folder
 from .measures import BEHAVIOUR_COLUMNS, behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
@@ -45,7 +45,7 @@ SENSITIVITY = {
     "object-radius-4": {"model.object_radius": 4.0},
 }
 
-# The optimizer comparison (econet study --optimizers; science/optimizers.py): the normal
+# The optimizer comparison (econet study --optimizers; science/optimizer_study.py): the normal
 # condition evolved by CMA-ES and by the evolution strategy; the base study's normal runs are
 # the GA's.
 OPTIMIZER_VARIANTS = {"optimizer-cmaes": {"evolution.optimizer": "cmaes"},

@@ -1,0 +1,373 @@
+"""Sweeps over the paper's open choices: which readings of the paper a finding holds under.
+
+A sweep specification is a TOML file (read with the standard library's tomllib):
+
+    name = "smoke"
+    generations = 5
+    seeds = [1, 2]                       # or {first = 1, count = 10}
+    conditions = ["normal", "three-layer"]
+    behaviour = true                     # also record behaviour.csv (Figures 4-9 measures)
+
+    [settings]                           # changes every cell makes (dotted config keys)
+    "evolution.population" = 20
+
+    [cells.small]                        # named cells: each a set of config changes ...
+    set = {"network.visual_hidden" = 2}
+    conditions = ["normal"]              # ... and, if not the spec's, its own conditions
+
+    [factors]                            # crossed with each other (and with the named cells)
+    "evolution.mutation_mode" = ["per-bit", "weights"]
+
+    [[compare]]                          # paired comparisons for the report
+    a = {condition = "normal"}           # within every cell: normal minus three-layer
+    b = {condition = "three-layer"}
+
+Every cell runs every seed, and a run is (cell, condition, seed) evolved as run 1 of that seed,
+so the same seed gives the same trial starts in every cell and condition: runs pair by seed.
+Results: OUT/sweep.json (the specification as read) and OUT/<cell>/<condition>/seed-NNN/ (a run
+folder, plus behaviour.csv). docs/sweeps.md explains the format in full.
+"""
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...config import CONDITIONS, SETTINGS, Config
+from ...errors import ConfigError, ResultsError
+from ...runs import RunData
+
+FORMAT = "econet-sweep/1"
+RESERVED = ("evolution.condition", "evolution.generations")
+TOP_KEYS = {"name", "description", "generations", "seeds", "conditions", "behaviour",
+            "settings", "cells", "factors", "compare"}
+
+
+@dataclass(frozen=True)
+class Cell:
+    name: str
+    changes: dict          # dotted config key -> value (the cell's own and its factor levels)
+    conditions: tuple[str, ...]
+    base: str = ""         # the named cell it was crossed from ("" without named cells)
+    levels: tuple = ()     # its factor levels, as (dotted key, value) pairs
+
+    def matches(self, name: str) -> bool:
+        """Whether a comparison's cell name means this cell: its own name, or the named cell
+        it was crossed from (then the comparison is made at every factor level)."""
+        return name in (self.name, self.base)
+
+
+@dataclass(frozen=True)
+class Run:
+    cell: str
+    condition: str
+    seed: int
+    config: Config
+
+    def folder(self, out: Path) -> Path:
+        return Path(out) / self.cell / self.condition / f"seed-{self.seed:03d}"
+
+
+@dataclass
+class SweepSpec:
+    name: str
+    generations: int
+    seeds: tuple[int, ...]
+    cells: list[Cell]
+    settings: dict = field(default_factory=dict)
+    behaviour: bool = True
+    compare: list[dict] = field(default_factory=list)
+    description: str = ""
+
+    def config(self, cell: Cell, condition: str) -> Config:
+        return Config().replace(**self.settings, **cell.changes, **{
+            "evolution.condition": condition, "evolution.generations": self.generations})
+
+    def runs(self) -> list[Run]:
+        """Every run, longest first (random movement is the cheapest condition)."""
+        runs = [Run(cell.name, condition, seed, self.config(cell, condition))
+                for cell in self.cells for condition in cell.conditions for seed in self.seeds]
+        return sorted(runs, key=lambda run: run.condition == "random")
+
+    def cell(self, name: str) -> Cell:
+        return next(c for c in self.cells if c.name == name)
+
+    def to_dict(self) -> dict:
+        return {"format": FORMAT, "name": self.name, "description": self.description,
+                "generations": self.generations, "seeds": list(self.seeds),
+                "behaviour": self.behaviour, "settings": self.settings,
+                "cells": [{"name": c.name, "changes": c.changes,
+                           "conditions": list(c.conditions), "base": c.base,
+                           "levels": [list(pair) for pair in c.levels]} for c in self.cells],
+                "compare": self.compare}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "SweepSpec":
+        cells = [Cell(c["name"], c["changes"], tuple(c["conditions"]), c["base"],
+                      tuple(map(tuple, c["levels"]))) for c in data["cells"]]
+        return cls(data["name"], data["generations"], tuple(data["seeds"]), cells,
+                   data["settings"], data["behaviour"], data["compare"], data["description"])
+
+
+# -- reading a specification -------------------------------------------------------------------
+def load_spec(path: Path) -> SweepSpec:
+    """A checked specification; ConfigError (one line) on anything that cannot work, before
+    any run starts."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise ConfigError(f"cannot read sweep spec {path}: {error.strerror}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+        raise ConfigError(f"sweep spec {path} is not valid TOML: {error}") from None
+    try:
+        spec = _spec_from_toml(data, default_name=path.stem)
+    except ConfigError as error:
+        raise ConfigError(f"sweep spec {path}: {error}") from None
+    for cell in spec.cells:            # every cell and condition must make a valid Config
+        for condition in cell.conditions:
+            try:
+                spec.config(cell, condition)
+            except ConfigError as error:
+                raise ConfigError(f"sweep spec {path}: cell '{cell.name}', {condition}: "
+                                  f"{error}") from None
+    return spec
+
+
+def _spec_from_toml(data: dict, default_name: str) -> SweepSpec:
+    unknown = set(data) - TOP_KEYS
+    if unknown:
+        raise ConfigError(f"unknown key(s) {', '.join(sorted(unknown))} (allowed: "
+                          f"{', '.join(sorted(TOP_KEYS))})")
+    conditions = _conditions(data.get("conditions", ["normal"]), "conditions")
+    settings = _changes(data.get("settings", {}), "settings")
+    cells = _cells(data.get("cells", {}), _factors(data.get("factors", {})), conditions)
+    spec = SweepSpec(_text(data.get("name", default_name), "name"), _generations(data),
+                     _seeds(data.get("seeds", [1])), cells, settings,
+                     _flag(data.get("behaviour", True), "behaviour"),
+                     _comparisons(data.get("compare", [])),
+                     _text(data.get("description", ""), "description"))
+    _check_comparisons(spec)
+    return spec
+
+
+def _text(value: Any, what: str) -> str:
+    if not isinstance(value, str):
+        raise ConfigError(f"{what} must be a string, got {value!r}")
+    return value
+
+
+def _flag(value: Any, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise ConfigError(f"{what} must be true or false, got {value!r}")
+    return value
+
+
+def _generations(data: dict) -> int:
+    value = data.get("generations", Config().evolution.generations)
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ConfigError(f"generations must be a whole number of at least 1, got {value!r}")
+    return value
+
+
+def _seeds(value: Any) -> tuple[int, ...]:
+    """A list of whole numbers >= 0, or {first = F, count = N}."""
+    if isinstance(value, dict) and set(value) == {"first", "count"}:
+        first, count = value["first"], value["count"]
+        if all(isinstance(x, int) and not isinstance(x, bool) for x in (first, count)) \
+                and first >= 0 and count >= 1:
+            return tuple(range(first, first + count))
+    elif isinstance(value, list) and value and all(
+            isinstance(s, int) and not isinstance(s, bool) and s >= 0 for s in value):
+        if len(set(value)) != len(value):
+            raise ConfigError(f"seeds must not repeat, got {value}")
+        return tuple(value)
+    raise ConfigError(f"seeds must be a non-empty list of whole numbers >= 0 or "
+                      f"{{first = F, count = N}}, got {value!r}")
+
+
+def _conditions(value: Any, what: str) -> tuple[str, ...]:
+    if not isinstance(value, list) or not value or any(c not in CONDITIONS for c in value) \
+            or len(set(value)) != len(value):
+        raise ConfigError(f"{what} must be a non-empty list of distinct conditions from "
+                          f"{', '.join(CONDITIONS)}, got {value!r}")
+    return tuple(value)
+
+
+def _changes(value: Any, what: str) -> dict:
+    """Config changes by dotted key; their values are checked when the cells' configs are
+    built."""
+    if not isinstance(value, dict):
+        raise ConfigError(f"{what} must be a table of dotted config keys, got {value!r}")
+    known = {item.key for item in SETTINGS}
+    unknown = [key for key in value if key not in known]
+    if unknown:
+        raise ConfigError(f"{what}: unknown setting(s) {', '.join(unknown)} (all settings: "
+                          "econet evolve --help)")
+    reserved = [key for key in value if key in RESERVED]
+    if reserved:
+        raise ConfigError(f"{what}: {', '.join(reserved)} is set by the spec's own "
+                          "'conditions' and 'generations'")
+    return dict(value)
+
+
+def _factors(value: Any) -> list[dict]:
+    """The crossed factor levels, as a list of change sets (one empty set without factors)."""
+    if not isinstance(value, dict):
+        raise ConfigError(f"factors must be a table of dotted config key = [levels], got "
+                          f"{value!r}")
+    for key, levels in value.items():
+        if not isinstance(levels, list) or not levels:
+            raise ConfigError(f"factor '{key}' must list at least one level, got {levels!r}")
+        if len(set(map(json.dumps, levels))) != len(levels):
+            raise ConfigError(f"factor '{key}' repeats a level: {levels}")
+    _changes(value, "factors")
+    keys = list(value)
+    return [dict(zip(keys, combo)) for combo in itertools.product(*value.values())]
+
+
+def _cells(named: Any, crossed: list[dict], conditions: tuple[str, ...]) -> list[Cell]:
+    if not isinstance(named, dict):
+        raise ConfigError(f"cells must be a table of named cells, got {named!r}")
+    bases = []
+    for name, body in named.items():
+        if not isinstance(body, dict) or set(body) - {"set", "conditions"}:
+            raise ConfigError(f"cell '{name}' takes 'set' (config changes) and 'conditions' "
+                              f"only, got {body!r}")
+        bases.append((name, _changes(body.get("set", {}), f"cell '{name}' set"),
+                      _conditions(body.get("conditions", list(conditions)),
+                                  f"cell '{name}' conditions")))
+    if not bases:
+        bases = [("", {}, conditions)]
+    cells = []
+    for (name, changes, own), levels in itertools.product(bases, crossed):
+        label = "+".join(filter(None, [name] + [f"{k.partition('.')[2]}={_level(v)}"
+                                                for k, v in levels.items()])) or "base"
+        cells.append(Cell(label, {**changes, **levels}, own, name, tuple(levels.items())))
+    return cells
+
+
+def _level(value: Any) -> str:
+    return value if isinstance(value, str) else json.dumps(value)
+
+
+def _comparisons(value: Any) -> list[dict]:
+    if not isinstance(value, list):
+        raise ConfigError("compare must be an array of tables ([[compare]])")
+    for item in value:
+        if not isinstance(item, dict) or set(item) - {"a", "b", "label"} or not \
+                {"a", "b"} <= set(item):
+            raise ConfigError(f"each [[compare]] needs a and b (and may have a label), got "
+                              f"{item!r}")
+        for side in ("a", "b"):
+            if not isinstance(item[side], dict) or set(item[side]) - {"cell", "condition"} \
+                    or not item[side]:
+                raise ConfigError(f"compare {side} must name a cell and/or a condition, got "
+                                  f"{item[side]!r}")
+    return value
+
+
+def _check_comparisons(spec: SweepSpec) -> None:
+    for item in spec.compare:
+        for side in ("a", "b"):
+            cell = item[side].get("cell")
+            if cell is not None and not any(c.matches(cell) for c in spec.cells):
+                names = sorted({c.base or c.name for c in spec.cells})
+                raise ConfigError(f"compare names cell '{cell}', which the spec does not have "
+                                  f"(cells: {', '.join(names)})")
+            condition = item[side].get("condition")
+            if condition is not None and condition not in CONDITIONS:
+                raise ConfigError(f"compare names condition '{condition}'")
+
+
+# -- runs and their pairs -----------------------------------------------------------------------
+def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:
+    """The (cell, condition) pairs a [[compare]] entry stands for. A side without a cell means
+    every cell (the same on both sides); a cell named as crossed with factors means each of its
+    factor levels, paired with the other side's cell at the same levels; a side without a
+    condition means every condition the cell runs (the same on both sides)."""
+    a, b = item["a"], item["b"]
+    runs = {(c.name, condition) for c in spec.cells for condition in c.conditions}
+    pairs = []
+    for cell in spec.cells:
+        if "cell" in a and not cell.matches(a["cell"]):
+            continue
+        partner = cell if "cell" not in b else next(
+            (c for c in spec.cells if c.matches(b["cell"]) and c.levels == cell.levels), None)
+        for condition in cell.conditions:
+            if a.get("condition", condition) != condition or partner is None:
+                continue
+            left = (cell.name, condition)
+            right = (partner.name, b.get("condition", condition))
+            if right in runs and right != left and (left, right) not in pairs:
+                pairs.append((left, right))
+    return pairs
+
+
+def values(rows: list[dict], cell: str, condition: str, column: str,
+           seeds: tuple[int, ...]) -> np.ndarray:
+    """A column over the seeds, in seed order (NaN where a run is missing)."""
+    by_seed = {r["seed"]: r[column] for r in rows
+               if r["cell"] == cell and r["condition"] == condition}
+    return np.array([by_seed.get(seed, math.nan) for seed in seeds], dtype=float)
+
+
+# -- the output folder --------------------------------------------------------------------------
+def prepare_folder(spec: SweepSpec, out: Path) -> None:
+    """Create OUT with the spec, or check that OUT already holds this very spec."""
+    out = Path(out)
+    path = out / "sweep.json"
+    wanted = spec.to_dict()
+    if path.exists():
+        try:
+            stored = json.loads(path.read_text(encoding="utf-8"))
+        except (json.JSONDecodeError, UnicodeDecodeError):
+            raise ResultsError(f"{path} is damaged (not JSON); choose another --out") from None
+        if stored != json.loads(json.dumps(wanted)):
+            raise ResultsError(f"{out} holds a different sweep ('{stored.get('name')}'); "
+                               "choose another --out")
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(wanted, indent=2, sort_keys=True) + "\n", encoding="utf-8")
+    tmp.replace(path)
+
+
+def load_sweep(out: Path) -> SweepSpec:
+    path = Path(out) / "sweep.json"
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        if data.get("format") != FORMAT:
+            raise ResultsError(f"{path} has format {data.get('format')!r}, this version "
+                               f"reads {FORMAT!r}")
+        return SweepSpec.from_dict(data)
+    except OSError:
+        raise ResultsError(f"{out} is not a sweep folder (no sweep.json; make one with "
+                           "econet sweep run SPEC --out DIR)") from None
+    except (json.JSONDecodeError, KeyError, TypeError, UnicodeDecodeError) as error:
+        raise ResultsError(f"{path} is damaged ({error})") from None
+
+
+def finished(run: Run, out: Path, behaviour: bool) -> bool:
+    """Whether a run's folder is complete (all generations, and behaviour rows if recorded)."""
+    folder = run.folder(out)
+    if not (folder / "run.json").exists():
+        return False
+    try:
+        data = RunData(folder)
+    except (ResultsError, OSError, ValueError):
+        return False
+    if not data.complete:
+        return False
+    if behaviour:
+        path = folder / "behaviour.csv"
+        return path.exists() and path.read_bytes().count(b"\n") == data.generations_done + 1
+    return True
+
+

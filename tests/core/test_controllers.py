@@ -1,0 +1,79 @@
+"""The networks: batching weights per econet must not change a bit, the weight counts and refusals,
+and the vectorised logistic is the scalar formula."""
+import math
+
+import numba
+import numpy as np
+import pytest
+
+from econet_ros import genome
+from econet_ros.config import Config
+from econet_ros.controllers import logistic
+from econet_ros.elementary import EXP_NEAR_LIMIT
+from econet_ros.plugins import make_controller
+
+CONFIG = Config()
+
+
+def test_weights_per_econet_equal_weights_repeated_per_environment():
+    n_econets, trials = 5, 3
+    n = n_econets * trials
+    obs_inputs = np.random.default_rng(1).random((n, 13))
+    weights = genome.decode(genome.random_genomes(np.random.default_rng(2), n_econets, 160, 8),
+                            8, 10.0)
+    shared = make_controller("normal", n, CONFIG)
+    shared.load(weights)
+    repeated = make_controller("normal", n, CONFIG)
+    repeated.load(np.repeat(weights, trials, axis=0))
+    np.testing.assert_array_equal(shared.forward(obs_inputs), repeated.forward(obs_inputs))
+    alone = make_controller("normal", 1, CONFIG)
+    alone.load(weights[2:3])
+    np.testing.assert_array_equal(alone.forward(obs_inputs[7:8]),
+                                  shared.forward(obs_inputs)[7:8])
+
+
+def test_network_weight_count_and_refusals():
+    net = make_controller("normal", 4, CONFIG)
+    n = CONFIG.network
+    assert net.n_params == (8 * n.visual_hidden + 4 * n.proprio_hidden
+                            + (1 + n.visual_hidden + n.proprio_hidden) * n.intermodal_hidden
+                            + n.intermodal_hidden * 5)
+    assert make_controller("three-layer", 4, CONFIG).n_params == 13 * 8 + 8 * 5
+    with pytest.raises(ValueError, match="dividing 4"):
+        net.load(np.zeros((3, net.n_params)))
+    with pytest.raises(ValueError, match="unknown controller"):
+        make_controller("five-layer", 4, CONFIG)
+
+
+@numba.njit
+def _logistic_scalar(total):
+    """The formula as the networks computed it before (math.exp, one value at a time)."""
+    return np.array([1.0 / (1.0 + math.exp(-t)) for t in total])
+
+
+@numba.njit
+def _logistic(total):
+    out = np.empty_like(total)
+    logistic(total, out)
+    return out
+
+
+def test_logistic_matches_the_scalar_formula_everywhere():
+    rng = np.random.default_rng(1)
+    total = np.concatenate([rng.uniform(-100, 100, 10_000),
+                            [0.0, -0.0, 511.9, -511.9, 512.0, -512.0, 600.0, -600.0, 800.0,
+                             -800.0, 1e5, -1e5, np.inf, -np.inf]])
+    want = _logistic_scalar(total)
+    np.testing.assert_array_max_ulp(_logistic(total), want, maxulp=1)
+    far = np.abs(total) >= EXP_NEAR_LIMIT                   # these go through math.exp itself
+    np.testing.assert_array_equal(_logistic(total)[far], want[far])
+    assert np.isnan(_logistic(np.array([np.nan]))[0])
+
+
+def test_network_refuses_inputs_of_the_wrong_shape():
+    net = make_controller("normal", 4, CONFIG)
+    net.load(np.zeros((2, net.n_params)))
+    assert net.forward(np.zeros((4, 13))).shape == (4, 5)
+    for bad in (np.zeros((3, 13)), np.zeros((4, 12)), np.zeros(13)):
+        with pytest.raises(ValueError, match="network inputs"):
+            net.forward(bad)
