@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
-from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
+from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
@@ -29,6 +29,7 @@ from .sweeps.outcomes import tidy_rows
 from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.spec import load_sweep
+from .verdicts import VERDICTS
 
 
 @dataclass
@@ -75,9 +76,9 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     report, figures = report_paths(out, report, figures)
     lesions = {name: lesion_study(group["normal"].run_dirs) if "normal" in group else []
                for name, group in groups.items()}
-    G = spec.config.evolution.generations
+    windows = Windows(spec.config.evolution.generations)
     # a variant holds only the conditions it re-ran; the others come from the base study
-    claims = {name: evaluate({**groups["base"], **group}, lesions[name], G,
+    claims = {name: evaluate({**groups["base"], **group}, lesions[name], windows,
                              nulls=name == "base")
               for name, group in groups.items()}
     optimizers = Comparison.of(spec, groups, claims)
@@ -203,8 +204,7 @@ def _regime(analysis: Analysis) -> list[str]:
 
 
 def _per_reach(ev: Evidence, late: slice) -> str:
-    per = {c: ev.ratio(c, "top_separations", "top_successes", late)
-           for c in ev.group if ev.group[c].n_runs}
+    per = {c: ev.per_success(c, late) for c in ev.group if ev.group[c].n_runs}
     return "; ".join(f"{c} {estimate(list(v.values())).text()}" for c, v in per.items())
 
 
@@ -228,30 +228,40 @@ REGIME_DIAGNOSTICS = [
 
 def _claims(analysis: Analysis) -> list[str]:
     results = analysis.claims["base"]
-    tally = ", ".join(f"{v} {sum(r.verdict == v for r in results)}" for v in VERDICTS)
     return ["## Claims of the paper's Results section vs our measurements\n",
-            f"Each claim: the paper's words, our rule (written before the data it judges; "
-            f"docs/analysis.md), our estimate with its 95% bootstrap interval over runs "
-            f"(n = runs), and where conditions or windows are compared the paired difference "
-            f"over runs with its effect size d_z. *Added* claims are ones the paper makes in "
-            f"passing. The last columns check each rule against two nulls: its verdict with "
-            f"random movement in the normal condition's place, and how often it says "
-            f"'replicates' on {SHUFFLES} time-shuffled copies of the data (both should be "
-            f"low; '-' where a null cannot test the rule: shuffling only tests claims about a "
-            f"time course, a level that holds all through training survives it, and the random "
-            f"null only claims that read the normal condition). "
-            f"Machine-readable: claims.csv beside this report.\n",
-            _claims_table(results, nulls=True), f"\nTally: {tally}.\n"]
+            "Each claim: the paper's words, our rule (written before the data it judges; "
+            "docs/analysis.md, 'Verdicts'), our measurement, and the criteria that decide its "
+            "verdict: each an interval over runs (n = runs; a mean or a paired difference: 95% "
+            "Student-t; a share of runs: 95% Clopper-Pearson) against the region the paper "
+            "predicts. A criterion **replicates** when its interval lies inside the region, "
+            "is **contradicted** when it lies wholly outside, and is **inconclusive** when it "
+            "spans the region's edge; a claim replicates when its criteria do, is contradicted "
+            "when one is, and is inconclusive otherwise. Chance is the random condition's "
+            "level, paired by run. Each paired comparison names the smallest difference it "
+            "could detect with its n (80% power, two-sided 5%); a share of runs that must reach "
+            "a bound names how many runs could show it at all. *Added* claims are ones the "
+            "paper makes in passing. The last columns check each rule against two nulls: its "
+            "verdict with random movement in the normal condition's place, and how often it "
+            f"says 'replicates' on {SHUFFLES} time-shuffled copies of the data ('-' where a "
+            "null cannot test the rule: shuffling only tests claims about a time course, and "
+            "the random null only claims that read the normal condition). A rule that "
+            f"replicates on {LEVEL_LIKE:.0%} of its shuffled copies or more cannot tell a time "
+            "course from a level: its verdict is flagged and counted apart. "
+            "Machine-readable: claims.csv beside this report.\n",
+            _claims_table(results, nulls=True), *_tally(results)]
 
 
 def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
-    head = "| # | section | paper's claim | our rule | our measurement | verdict |"
+    head = ("| # | section | paper's claim | our rule | our measurement | criteria: interval "
+            "vs region | verdict |")
     rows = [head + (" random null | shuffled null |" if nulls else ""),
-            "|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
+            "|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
-        row = (f"| {i} | {r.claim.section} | {claim} | {r.claim.rule} | "
-               f"{r.ours.replace('|', '/')} | **{r.verdict}** |")
+        criteria = "<br>".join(c.text() for c in r.judged.criteria) or "-"
+        flag = " (cannot tell a time course from a level)" if r.flagged else ""
+        row = "| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
+                                               r.ours, criteria))) + f" | **{r.verdict}**{flag} |"
         if nulls and r.nulls is not None:
             shuffled = "-" if r.nulls.shuffled != r.nulls.shuffled else f"{r.nulls.shuffled:.0%}"
             row += f" {r.nulls.random} | {shuffled} |"
@@ -259,21 +269,47 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
     return "\n".join(rows) + "\n"
 
 
-CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "measurement",
-                 "estimate", "ci_low", "ci_high", "n_runs", "comparison", "difference",
-                 "difference_ci_low", "difference_ci_high", "effect_size_dz", "verdict",
-                 "null_random_verdict", "null_shuffled_replicates"]
+def _escaped(text: str) -> str:
+    """Text for a Markdown table cell (a '|' would end the cell)."""
+    return text.replace("|", "\\|")
+
+
+def _tally(results: list[ClaimResult]) -> list[str]:
+    """Verdicts counted for the paper's claims apart from the added ones, and the flagged
+    claims (which cannot tell a time course from a level) apart from both."""
+    groups = [(f"the paper's, {label}", [r for r in results if not r.claim.added and test(r)])
+              for label, test in (("not flagged", lambda r: not r.flagged),
+                                  ("flagged", lambda r: r.flagged))]
+    groups += [(f"added, {label}", [r for r in results if r.claim.added and test(r)])
+               for label, test in (("not flagged", lambda r: not r.flagged),
+                                   ("flagged", lambda r: r.flagged))]
+    return ["\nTally:\n", "| claims | " + " | ".join(VERDICTS) + " | all |",
+            "|---|" + "---|" * (len(VERDICTS) + 1),
+            *(f"| {label} | " + " | ".join(str(sum(r.verdict == v for r in group))
+                                           for v in VERDICTS) + f" | {len(group)} |"
+              for label, group in groups), ""]
+
+
+CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "criterion",
+                 "estimate", "ci_low", "ci_high", "method", "n", "region", "verdict",
+                 "detectable", "effect_size_dz", "criteria", "null_random_verdict",
+                 "null_shuffled_replicates", "flag"]
 
 
 def claim_row(number: int, r: ClaimResult) -> dict:
-    j, nan = r.judged, float("nan")
-    e, p = j.estimate, j.comparison
+    """One claim as a claims.csv row: the decisive criterion's interval (docs/analysis.md,
+    'claims.csv'), every criterion in words, the nulls and the flag."""
+    c, nan = r.judged.decisive, float("nan")
+    e = c.interval if c else None
     return dict(zip(CLAIM_COLUMNS, (
         number, r.claim.key, r.claim.section, r.claim.added, r.claim.paper, r.claim.rule,
-        j.ours, *((e.mean, e.lo, e.hi, e.n) if e is not None else (nan, nan, nan, 0)),
-        j.compared, *((p.diff.mean, p.diff.lo, p.diff.hi, p.effect) if p is not None
-                      else (nan, nan, nan, nan)),
-        j.verdict, r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan)))
+        r.ours, c.what if c else "",
+        *((e.mean, e.lo, e.hi, e.method, e.n, c.region) if c else (nan, nan, nan, "", 0, "")),
+        r.verdict, c.detectable if c else nan,
+        c.comparison.effect if c and c.comparison else nan,
+        "; ".join(x.text() for x in r.judged.criteria),
+        r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
+        "cannot tell a time course from a level" if r.flagged else "")))
 
 
 def write_claims_csv(path: Path, results: list[ClaimResult]) -> None:
@@ -342,7 +378,7 @@ def _lesion_table(lesion: list[dict]) -> str:
     rows = [f"Final-generation top-20 econets of {len(lesion)} normal runs, {LESION_TRIALS} fresh "
             "trials each: intact, with the proprioceptive inputs severed (the paper's lesion), "
             "and with the visual inputs severed (a control: does any lesion do the same?); "
-            "mean [95% bootstrap CI] over runs:\n",
+            "mean [95% t interval] over runs:\n",
             "| measure | intact | proprioception severed | vision severed |",
             "|---|---|---|---|"]
     for attr, label, digits in LESION_ROWS:
