@@ -46,6 +46,8 @@ class Analysis:
     sweeps: list[Path] = dataclasses.field(default_factory=list)   # summarised in the report
     folder: Path = Path(".")                                       # where the report is
     optimizers: Comparison | None = None           # the optimizer variants, when run
+    moved_windows: dict[str, list[ClaimResult]] = dataclasses.field(default_factory=dict)
+    # the base group's claims with the early or late window moved (Windows.moved)
 
     @property
     def windows(self) -> Windows:
@@ -81,6 +83,8 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     claims = {name: evaluate({**groups["base"], **group}, lesions[name], windows,
                              nulls=name == "base")
               for name, group in groups.items()}
+    moved = {label: evaluate(groups["base"], lesions["base"], other)
+             for label, other in windows.moved().items()}
     optimizers = Comparison.of(spec, groups, claims)
     # the optimizer variants have their own section; the sensitivity section is the others'
     kept = [name for name in groups if not optimizer_only(spec.variants.get(name))]
@@ -90,11 +94,11 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     analysis = Analysis(out, spec, sensitivity, gaps(groups), lesions,
                         {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
-                        [Path(s) for s in sweeps], report.parent, optimizers)
+                        [Path(s) for s in sweeps], report.parent, optimizers, moved)
     for folder in analysis.sweeps:
         publish_sweep(folder, report.parent / "sweeps")
     write_atomically(report, markdown(analysis))
-    write_claims_csv(report.with_name("claims.csv"), claims["base"])
+    write_claims_csv(report.with_name("claims.csv"), claims["base"], moved)
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes
 
@@ -146,9 +150,9 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 
 def markdown(analysis: Analysis) -> str:
-    sections = (_title, _settings, _completeness, _regime, _claims, _performance,
-                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _optimizers,
-                _sweeps)
+    sections = (_title, _settings, _completeness, _regime, _claims, _windows,
+                _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
+                _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -290,15 +294,42 @@ def _tally(results: list[ClaimResult]) -> list[str]:
               for label, group in groups), ""]
 
 
+def _windows(analysis: Analysis) -> list[str]:
+    """Which verdicts change when the early or the late window moves."""
+    if not analysis.moved_windows:
+        return []
+    w, base = analysis.windows, analysis.claims["base"]
+    labels = list(analysis.moved_windows)
+    changed = [(i, r, [analysis.moved_windows[label][i].verdict for label in labels])
+               for i, r in enumerate(base)]
+    changed = [(i, r, v) for i, r, v in changed if any(x != r.verdict for x in v)]
+    spans = {label: f"{label} ({w.label(other.early if 'early' in label else other.final)})"
+             for label, other in w.moved().items()}
+    lines = ["## Do the verdicts depend on the windows?\n",
+             f"Every claim judged again with the early window ({w.label(w.early)}) moved to "
+             f"the first 5% and 15% of the generations and the late window "
+             f"({w.label(w.final)}) to the last 5% and 15%, one at a time (start, dip and "
+             "first quarter stay). Claims whose verdict changes:\n"]
+    if not changed:
+        return lines + ["None: no claim's verdict depends on these windows.\n"]
+    return lines + ["| # | claim | as judged | " + " | ".join(spans[x] for x in labels) + " |",
+                    "|---|---|---|" + "---|" * len(labels),
+                    *(f"| {i + 1} | {r.claim.key} | {r.verdict} | " + " | ".join(v) + " |"
+                      for i, r, v in changed),
+                    f"\nEvery other claim ({len(base) - len(changed)} of {len(base)}) keeps its "
+                    "verdict.\n"]
+
+
 CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "criterion",
                  "estimate", "ci_low", "ci_high", "method", "n", "region", "verdict",
                  "detectable", "effect_size_dz", "criteria", "null_random_verdict",
-                 "null_shuffled_replicates", "flag"]
+                 "null_shuffled_replicates", "flag", "window_changes"]
 
 
-def claim_row(number: int, r: ClaimResult) -> dict:
+def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
     """One claim as a claims.csv row: the decisive criterion's interval (docs/analysis.md,
-    'claims.csv'), every criterion in words, the nulls and the flag."""
+    'claims.csv'), every criterion in words, the nulls, the flag and the windows that change
+    the verdict (``moved``: window label -> verdict there)."""
     c, nan = r.judged.decisive, float("nan")
     e = c.interval if c else None
     return dict(zip(CLAIM_COLUMNS, (
@@ -309,14 +340,18 @@ def claim_row(number: int, r: ClaimResult) -> dict:
         c.comparison.effect if c and c.comparison else nan,
         "; ".join(x.text() for x in r.judged.criteria),
         r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
-        "cannot tell a time course from a level" if r.flagged else "")))
+        "cannot tell a time course from a level" if r.flagged else "",
+        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict))))
 
 
-def write_claims_csv(path: Path, results: list[ClaimResult]) -> None:
+def write_claims_csv(path: Path, results: list[ClaimResult],
+                     moved: dict[str, list[ClaimResult]] | None = None) -> None:
+    moved = moved or {}
     with open(path, "w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, CLAIM_COLUMNS)
         writer.writeheader()
-        writer.writerows(claim_row(i, r) for i, r in enumerate(results, 1))
+        writer.writerows(claim_row(i, r, {label: m[i - 1].verdict for label, m in moved.items()})
+                         for i, r in enumerate(results, 1))
 
 
 def _performance(analysis: Analysis) -> list[str]:

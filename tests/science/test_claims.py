@@ -184,6 +184,29 @@ def test_a_level_that_holds_throughout_is_flagged_by_its_shuffled_nulls():
     assert not results["random-chance"].flagged          # no shuffled null: never flagged
 
 
+def test_a_verdict_can_depend_on_where_the_late_window_lies():
+    """P(approach | fixated) 0.4 early, down to 0.25, up to 0.7 in the last two generations:
+    the last 5% show the rise, the last 15% average it away."""
+    curve = np.full(G, 0.4)
+    curve[-6:-2], curve[-2:] = 0.25, 0.7
+    ev = {"normal": condition("normal", top_approach_fix=noisy(curve, 0.01, 12))}
+    claim = next(c for c in C.CLAIMS if c.key == "approach-increases")
+    verdicts = {label: C.judge(claim, Evidence(ev, [], w)).verdict
+                for label, w in Windows(G).moved().items()}
+    assert C.judge(claim, Evidence(ev, [], Windows(G))).verdict == "replicates"
+    assert verdicts == {"early 5%": "replicates", "early 15%": "replicates",
+                        "late 5%": "replicates", "late 15%": "inconclusive"}
+
+
+def test_the_moved_windows_are_the_first_and_last_5_and_15_percent():
+    moved = Windows(200).moved()
+    assert [(w.early, w.final) for w in moved.values()] == [
+        (slice(0, 10), slice(180, 200)), (slice(0, 30), slice(180, 200)),
+        (slice(0, 20), slice(190, 200)), (slice(0, 20), slice(170, 200))]
+    assert (Windows(200).early, Windows(200).final, Windows(4).early) == (
+        slice(0, 20), slice(180, 200), slice(0, 1))
+
+
 def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
     """@claim registers each claim where its measure is defined; two claims stacked on one
     measure keep the order they are written in and each passes its own argument."""

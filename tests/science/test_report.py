@@ -1,8 +1,9 @@
-"""The report's claim section on hand-made results whose answers are known: the tally (the
-paper's claims apart from the added ones, flagged ones apart), claims.csv, and what the
-optimizer study concludes from three verdicts."""
+"""The report's claim sections on hand-made results whose answers are known: the tally (the
+paper's claims apart from the added ones, flagged ones apart), the window table, claims.csv,
+and what the optimizer study concludes from three verdicts."""
 import csv
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -42,10 +43,28 @@ def test_the_tally_keeps_added_and_flagged_claims_apart():
     assert "P(approach" not in table and "detectable" in table
 
 
+def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
+    base = [result("fitness", "replicates"), result("latency", "contradicted")]
+    moved = {label: list(base) for label in Windows(200).moved()}
+    moved["late 15%"] = [base[0], result("latency", "inconclusive")]
+    analysis = SimpleNamespace(windows=Windows(200), claims={"base": base},
+                               moved_windows=moved)
+    lines = report._windows(analysis)
+    rows = [line for line in lines if line.startswith("| 2 |")]
+    assert rows == ["| 2 | latency | contradicted | contradicted | contradicted | contradicted "
+                    "| inconclusive |"]
+    assert not any(line.startswith("| 1 |") for line in lines)
+    assert "late 15% (gens 170-199)" in lines[2] and "early 5% (gens 0-9)" in lines[2]
+    unmoved = {label: list(base) for label in Windows(200).moved()}
+    assert "None: no claim's verdict depends" in report._windows(SimpleNamespace(
+        windows=Windows(200), claims={"base": base}, moved_windows=unmoved))[-1]
+
+
 def test_claims_csv_has_the_deciding_interval_its_method_power_and_flags(tmp_path):
     results = [result("fitness", "inconclusive"), result("lock-speed", "replicates", 0.9)]
+    moved = {"early 5%": [results[0], result("lock-speed", "contradicted")]}
     path = tmp_path / "claims.csv"
-    report.write_claims_csv(path, results)
+    report.write_claims_csv(path, results, moved)
     rows = list(csv.DictReader(open(path, newline="")))
     assert list(rows[0]) == report.CLAIM_COLUMNS
     first, second = rows
@@ -54,8 +73,10 @@ def test_claims_csv_has_the_deciding_interval_its_method_power_and_flags(tmp_pat
         "fitness difference", "t", "10", "> 0")
     assert float(first["ci_low"]) == pytest.approx(criterion.interval.lo)
     assert float(first["detectable"]) == pytest.approx(criterion.comparison.detectable)
-    assert first["verdict"] == "inconclusive" and first["flag"] == ""
+    assert first["verdict"] == "inconclusive" and first["flag"] == "" and \
+        first["window_changes"] == ""
     assert second["flag"] == "cannot tell a time course from a level"
+    assert second["window_changes"] == "early 5%: contradicted"
     assert second["null_random_verdict"] == "contradicted"
 
 
