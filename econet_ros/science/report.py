@@ -16,13 +16,14 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
+from . import holding
 from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
 from .optimizer_study import Comparison
 from .series import Windows, fmt
-from .stats import estimate
+from .stats import estimate, median
 from .study import ConditionData, StudySpec, load_study, optimizer_only
 from .sweeps import confirm
 from .sweeps.outcomes import tidy_rows
@@ -150,7 +151,7 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 
 def markdown(analysis: Analysis) -> str:
-    sections = (_title, _settings, _completeness, _regime, _claims, _windows,
+    sections = (_title, _settings, _completeness, _regime, _holding, _claims, _windows,
                 _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
                 _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
@@ -207,11 +208,6 @@ def _regime(analysis: Analysis) -> list[str]:
     return lines + [""]
 
 
-def _per_reach(ev: Evidence, late: slice) -> str:
-    per = {c: ev.per_success(c, late) for c in ev.group if ev.group[c].n_runs}
-    return "; ".join(f"{c} {estimate(list(v.values())).text()}" for c, v in per.items())
-
-
 def _against_random(column: str, digits: int):
     def measure(ev: Evidence, late: slice) -> str:
         pairs = {c: ev.compare((c, column, late), ("random", column, late))
@@ -221,13 +217,51 @@ def _against_random(column: str, digits: int):
 
 
 REGIME_DIAGNOSTICS = [
-    ("separations per successful trial (the paper's econets reach and hold: about 1 or "
-     "less)", _per_reach),
     ("successful trials against random movement", _against_random("top_successes", 2)),
     ("eye speed while the object is fixated, against random movement (deg/cycle; below "
      "random: sight of the object slows the eye; above: the eye spins past it)",
      _against_random("top_eye_speed_fix", 2)),
 ]
+
+
+def _holding(analysis: Analysis) -> list[str]:
+    """Hold or brush, per run: each run's late separations per successful trial and its class
+    (holding.py, the threshold written down before the confirmatory study), the count of
+    holding runs with its exact interval, medians beside means of the outcomes that split."""
+    w = analysis.windows
+    ev = Evidence(analysis.groups["base"], [], w)
+    conditions = [c for c, data in ev.group.items() if data.n_runs]
+    ratios = {c: ev.per_success(c, w.final) for c in conditions}
+    runs = sorted(set().union(*ratios.values()))
+    cell = lambda r: "-" if r is None else f"{fmt(r, 2)} ({holding.kind(r)})"  # noqa: E731
+    return ["## Hold or brush, per run\n",
+            f"A run **holds** when its late ({w.label(w.final)}) top-20 separations per "
+            f"successful trial (window sums) are at most {holding.LIMIT:g}, **brushes** above "
+            "that, and **does not reach** without a successful trial (docs/analysis.md, "
+            "'Holding, per run'). Outcomes split into holding and brushing runs, so medians "
+            "(95% order-statistic interval) stand beside means (95% t interval).\n",
+            "| condition | hold / brush / no reach | share holding [95% CI, Clopper-Pearson] | "
+            "late separations per successful trial: mean; median | late top-20 fitness: "
+            "mean; median | late successful trials: mean; median |", "|---|---|---|---|---|---|",
+            *(_holding_row(ev, c, ratios[c]) for c in conditions), "",
+            "| run | " + " | ".join(conditions) + " |", "|---|" + "---|" * len(conditions),
+            *(f"| {run} | " + " | ".join(cell(ratios[c].get(run)) for c in conditions) + " |"
+              for run in runs), ""]
+
+
+def _holding_row(ev: Evidence, condition: str, ratios: dict[str, float]) -> str:
+    kinds = [holding.kind(r) for r in ratios.values()]
+    counts = " / ".join(str(kinds.count(k))
+                        for k in (holding.HOLDS, holding.BRUSHES, holding.NO_REACH))
+    late = ev.windows.final
+
+    def both(values, digits):
+        return f"{estimate(values).text(digits)}; {median(values).text(digits)}"
+    return (f"| {condition} | {counts} | {holding.holding_share(list(ratios.values())).text()} "
+            f"| {both(list(ratios.values()), 2)} | "
+            + " | ".join(both(list(ev.per_run(condition, column, late).values()), digits)
+                         for column, digits in (("top_fitness", 0), ("top_successes", 2)))
+            + " |")
 
 
 def _claims(analysis: Analysis) -> list[str]:

@@ -1,8 +1,9 @@
-"""The report's claim sections on hand-made results whose answers are known: the tally (the
-paper's claims apart from the added ones, flagged ones apart), the window table, claims.csv,
-and what the optimizer study concludes from three verdicts."""
+"""The report's claim and holding sections on hand-made results whose answers are known: the
+holding table, the tally (the paper's claims apart from the added ones, flagged ones apart),
+the window table, claims.csv, and what the optimizer study concludes from three verdicts."""
 import csv
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -12,11 +13,36 @@ from econet_ros.science import report
 from econet_ros.science.claims import CLAIMS, ClaimResult, Judged, Nulls
 from econet_ros.science.optimizer_study import Comparison
 from econet_ros.science.series import Windows
-from econet_ros.science.stats import Estimate, paired
+from econet_ros.science.stats import Estimate, paired, share
+from econet_ros.science.study import ConditionData
 from econet_ros.science.verdicts import above
 
 G, RUNS = 20, 10
 CLAIM = {claim.key: claim for claim in CLAIMS}
+
+
+def condition(name, **columns):
+    table = {k: np.broadcast_to(np.asarray(v, float), (RUNS, G)).copy()
+             for k, v in columns.items()}
+    return ConditionData(name, Path(name), G, table, {}, [G] * RUNS,
+                         [Path(f"run-{i:02d}") for i in range(1, RUNS + 1)], [])
+
+
+def test_holding_counts_runs_that_hold_brush_or_never_reach():
+    per_run = lambda values: np.array(values, float)[:, None]  # noqa: E731
+    separations = per_run([2] * 7 + [250] * 2 + [0])     # per generation, 10 successes each:
+    successes = per_run([10] * 9 + [0])                   # 0.2 (holds) x7, 25 x2, none x1
+    normal = condition("normal", top_separations=separations, top_successes=successes,
+                       top_fitness=per_run([900] * 7 + [100] * 3))
+    lines = report._holding(SimpleNamespace(windows=Windows(G), groups={"base": {
+        "normal": normal}}))
+    summary = next(line for line in lines if line.startswith("| normal |"))
+    assert "| 7 / 2 / 1 |" in summary
+    assert share([1] * 7 + [0] * 3).text() in summary       # 0.70 [0.35, 0.93] (n=10)
+    assert "0.20 [0.20, 25.00] (n=9)" in summary              # the median of 9 reaching runs
+    assert "| 660 [384, 936] (n=10); 900 [100, 900] (n=10) |" in summary   # mean; median
+    assert "| run-01 | 0.20 (holds) |" in lines and "| run-08 | 25.00 (brushes) |" in lines
+    assert "| run-10 | n/a (does not reach) |" in lines
 
 
 def result(key, verdict, shuffled=math.nan, spread=1.0):

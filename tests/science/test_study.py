@@ -70,7 +70,8 @@ def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
     assert len(table) == 2 * len(CLAIMS)     # every claim, for the base study and the variant
     assert all(any(f"**{v}**" in line for v in VERDICTS) for line in table)
     assert "| the paper's, not flagged |" in text and "| added, flagged |" in text
-    assert "## Do the verdicts depend on the windows?" in text
+    assert "## Hold or brush, per run" in text and "## Do the verdicts depend on the windows?" \
+        in text
     claims = rows(tmp_path / "claims.csv")
     assert [row["key"] for row in claims] == [claim.key for claim in CLAIMS]
     assert all(row["verdict"] in VERDICTS for row in claims)
