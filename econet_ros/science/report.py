@@ -233,7 +233,9 @@ def _holding(analysis: Analysis) -> list[str]:
     conditions = [c for c, data in ev.group.items() if data.n_runs]
     ratios = {c: ev.per_success(c, w.final) for c in conditions}
     runs = sorted(set().union(*ratios.values()))
-    cell = lambda r: "-" if r is None else f"{fmt(r, 2)} ({holding.kind(r)})"  # noqa: E731
+
+    def cell(ratio: float | None) -> str:
+        return "-" if ratio is None else f"{fmt(ratio, 2)} ({holding.kind(ratio)})"
     return ["## Hold or brush, per run\n",
             f"A run **holds** when its late ({w.label(w.final)}) top-20 separations per "
             f"successful trial (window sums) are at most {holding.LIMIT:g}, **brushes** above "
@@ -315,12 +317,10 @@ def _escaped(text: str) -> str:
 def _tally(results: list[ClaimResult]) -> list[str]:
     """Verdicts counted for the paper's claims apart from the added ones, and the flagged
     claims (which cannot tell a time course from a level) apart from both."""
-    groups = [(f"the paper's, {label}", [r for r in results if not r.claim.added and test(r)])
-              for label, test in (("not flagged", lambda r: not r.flagged),
-                                  ("flagged", lambda r: r.flagged))]
-    groups += [(f"added, {label}", [r for r in results if r.claim.added and test(r)])
-               for label, test in (("not flagged", lambda r: not r.flagged),
-                                   ("flagged", lambda r: r.flagged))]
+    groups = [(f"{whose}, {label}", [r for r in results
+                                     if r.claim.added == added and r.flagged == flagged])
+              for whose, added in (("the paper's", False), ("added", True))
+              for label, flagged in (("not flagged", False), ("flagged", True))]
     return ["\nTally:\n", "| claims | " + " | ".join(VERDICTS) + " | all |",
             "|---|" + "---|" * (len(VERDICTS) + 1),
             *(f"| {label} | " + " | ".join(str(sum(r.verdict == v for r in group))
@@ -337,7 +337,7 @@ def _windows(analysis: Analysis) -> list[str]:
     changed = [(i, r, [analysis.moved_windows[label][i].verdict for label in labels])
                for i, r in enumerate(base)]
     changed = [(i, r, v) for i, r, v in changed if any(x != r.verdict for x in v)]
-    spans = {label: f"{label} ({w.label(other.early if 'early' in label else other.final)})"
+    spans = {label: f"{label} ({w.label(other.early if other.early != w.early else other.final)})"
              for label, other in w.moved().items()}
     lines = ["## Do the verdicts depend on the windows?\n",
              f"Every claim judged again with the early window ({w.label(w.early)}) moved to "
