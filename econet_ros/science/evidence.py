@@ -1,5 +1,5 @@
 """What the claims of one study group are judged on, as statistics over runs: window means per
-run, their bootstrap intervals, paired comparisons (runs pair by run number: run k of every
+run, their t intervals, paired comparisons (runs pair by run number: run k of every
 condition has the same seed and so the same trial starts), per-run joint classifications, the
 lesion test; and the two nulls each rule is checked against (random movement in the place of
 the normal condition, and every run's generations shuffled in time). ROS-free."""
@@ -12,6 +12,7 @@ import numpy as np
 
 from ..config import Config
 from ..runs import RunData
+from . import holding
 from .measures import ReachSummary
 from .series import Windows, nanmean, per_run, smooth
 from .stats import Estimate, Paired, estimate, paired
@@ -55,14 +56,15 @@ class Evidence:
         means = nanmean(per_run(data, column)[:, window], axis=1)
         return {path.name: float(m) for path, m in zip(data.run_dirs, means)}
 
-    def ratio(self, condition: str, numerator: str, denominator: str,
-              window: slice) -> dict[str, float]:
-        """Each run's window sum of one column over another's (e.g. separations per success)."""
+    def per_success(self, condition: str, window: slice) -> dict[str, float]:
+        """Each run's separations per successful trial over a window: the window sum of the top
+        20's separations over that of their successful trials (holding.per_success, the
+        definition a run's holding is judged by)."""
         data = self.condition(condition)
-        top = np.nansum(per_run(data, numerator)[:, window], axis=1)
-        below = np.nansum(per_run(data, denominator)[:, window], axis=1)
-        return {path.name: float(t / b) if b > 0 else np.nan
-                for path, t, b in zip(data.run_dirs, top, below)}
+        separations, successes = (per_run(data, c)[:, window]
+                                  for c in ("top_separations", "top_successes"))
+        return {path.name: holding.per_success(s, k)
+                for path, s, k in zip(data.run_dirs, separations, successes)}
 
     def estimate(self, condition: str, column: str, window: slice) -> Estimate:
         return estimate(list(self.per_run(condition, column, window).values()))

@@ -185,11 +185,13 @@ def coactivation(normal: ConditionData | None):
 
 
 def approach(normal: ConditionData | None, random: ConditionData | None):
-    """Figure 8: P(approach) with and without fixation, against chance."""
+    """Figure 8: P(approach) with and without fixation, against chance: random movement's,
+    with and without fixation (what the claims compare with), and the paper's 0.5 (dotted)."""
     fig, ax = plt.subplots(figsize=(7, 4))
     band(ax, normal, "top_approach_fix", "normal, fixation", "tab:blue")
     band(ax, normal, "top_approach_nofix", "normal, non-fixation", "tab:cyan", "--")
     band(ax, random, "top_approach_fix", "random, fixation", "tab:gray")
+    band(ax, random, "top_approach_nofix", "random, non-fixation", "tab:gray", "--", runs=False)
     ax.axhline(CHANCE, color="k", lw=0.6, ls=":")
     ax.set_xlabel("generation")
     ax.set_ylabel("P(approach movement)")

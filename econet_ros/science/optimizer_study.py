@@ -20,10 +20,10 @@ from .measures import CHANCE  # noqa: E402
 from .series import Windows, nanmean  # noqa: E402
 from .stats import t_interval  # noqa: E402
 from .study import ConditionData, StudySpec, optimizer_only  # noqa: E402
+from .verdicts import CONTRADICTED, REPLICATES  # noqa: E402
 
 NAMES = {"ga": "GA (paper)", "cmaes": "CMA-ES", "es": "ES"}
 COLORS = {"ga": "tab:blue", "cmaes": "tab:red", "es": "tab:green"}
-APPEARS = ("replicates", "partly")
 
 # Each constraint: its section of the claims table, the claim that says it appears at all, and
 # the measure per generation drawn for it (a column, or a function of the group's columns).
@@ -127,8 +127,9 @@ class Comparison:
                  *self._fitness_lines(),
                  f"\n![Constraints by optimizer]({figures['optimizers_constraints']})\n",
                  "Does each constraint appear? Its headline claim's verdict under each "
-                 "optimizer (appears = replicates or partly; rules as in the claims table "
-                 "above):\n",
+                 "optimizer (appears = replicates: the claim's intervals lie in the regions the "
+                 "paper predicts; absent = contradicted; inconclusive or n/a: cannot tell; "
+                 "rules as in the claims table above):\n",
                  "| constraint | claim | " + " | ".join(NAMES[o] for o in opts) + " |",
                  "|---|---|" + "---|" * len(opts)]
         lines += [f"| {label} | {key} | " + " | ".join(self.verdict(o, key) for o in opts) + " |"
@@ -151,22 +152,27 @@ class Comparison:
         return lines
 
     def _conclusion(self) -> list[str]:
-        everywhere, ga_only, elsewhere, nowhere = [], [], [], []
+        """Where each constraint appears (its claim replicates) and where it is absent (is
+        contradicted): the task's when it appears under every optimizer, the algorithm's when
+        it appears under the GA and is absent under every other; otherwise it cannot be told."""
+        task, algorithm, absent, untold = [], [], [], []
         for label, _, key in CONSTRAINTS:
-            seen = [opt for opt in self.arms if self.verdict(opt, key) in APPEARS]  # arms' order
-            if seen == list(self.arms):
-                everywhere.append(label)
-            elif seen == ["ga"]:
-                ga_only.append(label)
-            elif seen:
-                elsewhere.append(f"{label} (under {', '.join(NAMES[o] for o in seen)})")
+            verdicts = [self.verdict(opt, key) for opt in self.arms]      # the arms' order
+            others = [v for opt, v in zip(self.arms, verdicts) if opt != "ga"]
+            if all(v == REPLICATES for v in verdicts):
+                task.append(label)
+            elif self.verdict("ga", key) == REPLICATES and all(v == CONTRADICTED for v in others):
+                algorithm.append(label)
+            elif all(v == CONTRADICTED for v in verdicts):
+                absent.append(label)
             else:
-                nowhere.append(label)
-        return [f"- Under every optimizer (the task's): {', '.join(everywhere) or 'none'}.",
-                f"- Under the GA only (the algorithm's): {', '.join(ga_only) or 'none'}.",
-                f"- Under some optimizers, the GA among them or not: "
-                f"{', '.join(elsewhere) or 'none'}.",
-                f"- Under none: {', '.join(nowhere) or 'none'}."]
+                untold.append(f"{label} (" + ", ".join(
+                    f"{NAMES[o]} {v}" for o, v in zip(self.arms, verdicts)) + ")")
+        return [f"- Under every optimizer (the task's): {', '.join(task) or 'none'}.",
+                f"- Under the GA only, absent under the others (the algorithm's): "
+                f"{', '.join(algorithm) or 'none'}.",
+                f"- Absent under every optimizer: {', '.join(absent) or 'none'}.",
+                f"- Cannot be told from these runs: {', '.join(untold) or 'none'}."]
 
     def _claims_by_section(self, opts: list[str]) -> list[str]:
         sections = {section for _, section, _ in CONSTRAINTS}

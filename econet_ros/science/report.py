@@ -16,19 +16,21 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
-from .claims import SHUFFLES, VERDICTS, ClaimResult, evaluate
+from . import holding
+from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
 from .optimizer_study import Comparison
 from .series import Windows, fmt
-from .stats import estimate
+from .stats import estimate, median
 from .study import ConditionData, StudySpec, load_study, optimizer_only
 from .sweeps import confirm
 from .sweeps.outcomes import tidy_rows
 from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.spec import load_sweep
+from .verdicts import VERDICTS
 
 
 @dataclass
@@ -45,6 +47,8 @@ class Analysis:
     sweeps: list[Path] = dataclasses.field(default_factory=list)   # summarised in the report
     folder: Path = Path(".")                                       # where the report is
     optimizers: Comparison | None = None           # the optimizer variants, when run
+    moved_windows: dict[str, list[ClaimResult]] = dataclasses.field(default_factory=dict)
+    # the base group's claims with the early or late window moved (Windows.moved)
 
     @property
     def windows(self) -> Windows:
@@ -75,11 +79,13 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     report, figures = report_paths(out, report, figures)
     lesions = {name: lesion_study(group["normal"].run_dirs) if "normal" in group else []
                for name, group in groups.items()}
-    G = spec.config.evolution.generations
+    windows = Windows(spec.config.evolution.generations)
     # a variant holds only the conditions it re-ran; the others come from the base study
-    claims = {name: evaluate({**groups["base"], **group}, lesions[name], G,
+    claims = {name: evaluate({**groups["base"], **group}, lesions[name], windows,
                              nulls=name == "base")
               for name, group in groups.items()}
+    moved = {label: evaluate(groups["base"], lesions["base"], other)
+             for label, other in windows.moved().items()}
     optimizers = Comparison.of(spec, groups, claims)
     # the optimizer variants have their own section; the sensitivity section is the others'
     kept = [name for name in groups if not optimizer_only(spec.variants.get(name))]
@@ -89,11 +95,11 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     analysis = Analysis(out, spec, sensitivity, gaps(groups), lesions,
                         {name: claims[name] for name in kept},
                         {k: os.path.relpath(v, report.parent) for k, v in files.items()},
-                        [Path(s) for s in sweeps], report.parent, optimizers)
+                        [Path(s) for s in sweeps], report.parent, optimizers, moved)
     for folder in analysis.sweeps:
         publish_sweep(folder, report.parent / "sweeps")
     write_atomically(report, markdown(analysis))
-    write_claims_csv(report.with_name("claims.csv"), claims["base"])
+    write_claims_csv(report.with_name("claims.csv"), claims["base"], moved)
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
     return report, analysis.notes
 
@@ -145,9 +151,9 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 
 def markdown(analysis: Analysis) -> str:
-    sections = (_title, _settings, _completeness, _regime, _claims, _performance,
-                _joint_locking, _coactivation, _approach, _slowdown, _sensitivity, _optimizers,
-                _sweeps)
+    sections = (_title, _settings, _completeness, _regime, _holding, _claims, _windows,
+                _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
+                _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -202,12 +208,6 @@ def _regime(analysis: Analysis) -> list[str]:
     return lines + [""]
 
 
-def _per_reach(ev: Evidence, late: slice) -> str:
-    per = {c: ev.ratio(c, "top_separations", "top_successes", late)
-           for c in ev.group if ev.group[c].n_runs}
-    return "; ".join(f"{c} {estimate(list(v.values())).text()}" for c, v in per.items())
-
-
 def _against_random(column: str, digits: int):
     def measure(ev: Evidence, late: slice) -> str:
         pairs = {c: ev.compare((c, column, late), ("random", column, late))
@@ -217,8 +217,6 @@ def _against_random(column: str, digits: int):
 
 
 REGIME_DIAGNOSTICS = [
-    ("separations per successful trial (the paper's econets reach and hold: about 1 or "
-     "less)", _per_reach),
     ("successful trials against random movement", _against_random("top_successes", 2)),
     ("eye speed while the object is fixated, against random movement (deg/cycle; below "
      "random: sight of the object slows the eye; above: the eye spins past it)",
@@ -226,32 +224,84 @@ REGIME_DIAGNOSTICS = [
 ]
 
 
+def _holding(analysis: Analysis) -> list[str]:
+    """Hold or brush, per run: each run's late separations per successful trial and its class
+    (holding.py, the threshold written down before the confirmatory study), the count of
+    holding runs with its exact interval, medians beside means of the outcomes that split."""
+    w = analysis.windows
+    ev = Evidence(analysis.groups["base"], [], w)
+    conditions = [c for c, data in ev.group.items() if data.n_runs]
+    ratios = {c: ev.per_success(c, w.final) for c in conditions}
+    runs = sorted(set().union(*ratios.values()))
+
+    def cell(ratio: float | None) -> str:
+        return "-" if ratio is None else f"{fmt(ratio, 2)} ({holding.kind(ratio)})"
+    return ["## Hold or brush, per run\n",
+            f"A run **holds** when its late ({w.label(w.final)}) top-20 separations per "
+            f"successful trial (window sums) are at most {holding.LIMIT:g}, **brushes** above "
+            "that, and **does not reach** without a successful trial (docs/analysis.md, "
+            "'Holding, per run'). Outcomes split into holding and brushing runs, so medians "
+            "(95% order-statistic interval) stand beside means (95% t interval).\n",
+            "| condition | hold / brush / no reach | share holding [95% CI, Clopper-Pearson] | "
+            "late separations per successful trial: mean; median | late top-20 fitness: "
+            "mean; median | late successful trials: mean; median |", "|---|---|---|---|---|---|",
+            *(_holding_row(ev, c, ratios[c]) for c in conditions), "",
+            "| run | " + " | ".join(conditions) + " |", "|---|" + "---|" * len(conditions),
+            *(f"| {run} | " + " | ".join(cell(ratios[c].get(run)) for c in conditions) + " |"
+              for run in runs), ""]
+
+
+def _holding_row(ev: Evidence, condition: str, ratios: dict[str, float]) -> str:
+    kinds = [holding.kind(r) for r in ratios.values()]
+    counts = " / ".join(str(kinds.count(k))
+                        for k in (holding.HOLDS, holding.BRUSHES, holding.NO_REACH))
+    late = ev.windows.final
+
+    def both(values, digits):
+        return f"{estimate(values).text(digits)}; {median(values).text(digits)}"
+    return (f"| {condition} | {counts} | {holding.holding_share(list(ratios.values())).text()} "
+            f"| {both(list(ratios.values()), 2)} | "
+            + " | ".join(both(list(ev.per_run(condition, column, late).values()), digits)
+                         for column, digits in (("top_fitness", 0), ("top_successes", 2)))
+            + " |")
+
+
 def _claims(analysis: Analysis) -> list[str]:
     results = analysis.claims["base"]
-    tally = ", ".join(f"{v} {sum(r.verdict == v for r in results)}" for v in VERDICTS)
     return ["## Claims of the paper's Results section vs our measurements\n",
-            f"Each claim: the paper's words, our rule (written before the data it judges; "
-            f"docs/analysis.md), our estimate with its 95% bootstrap interval over runs "
-            f"(n = runs), and where conditions or windows are compared the paired difference "
-            f"over runs with its effect size d_z. *Added* claims are ones the paper makes in "
-            f"passing. The last columns check each rule against two nulls: its verdict with "
-            f"random movement in the normal condition's place, and how often it says "
-            f"'replicates' on {SHUFFLES} time-shuffled copies of the data (both should be "
-            f"low; '-' where a null cannot test the rule: shuffling only tests claims about a "
-            f"time course, a level that holds all through training survives it, and the random "
-            f"null only claims that read the normal condition). "
-            f"Machine-readable: claims.csv beside this report.\n",
-            _claims_table(results, nulls=True), f"\nTally: {tally}.\n"]
+            "Each claim: the paper's words, our rule (written before the data it judges; "
+            "docs/analysis.md, 'Verdicts'), our measurement, and the criteria that decide its "
+            "verdict: each an interval over runs (n = runs; a mean or a paired difference: 95% "
+            "Student-t; a share of runs: 95% Clopper-Pearson) against the region the paper "
+            "predicts. A criterion **replicates** when its interval lies inside the region, "
+            "is **contradicted** when it lies wholly outside, and is **inconclusive** when it "
+            "spans the region's edge; a claim replicates when its criteria do, is contradicted "
+            "when one is, and is inconclusive otherwise. Chance is the random condition's "
+            "level, paired by run. Each paired comparison names the smallest difference it "
+            "could detect with its n (80% power, two-sided 5%); a share of runs that must reach "
+            "a bound names how many runs could show it at all. *Added* claims are ones the "
+            "paper makes in passing. The last columns check each rule against two nulls: its "
+            "verdict with random movement in the normal condition's place, and how often it "
+            f"says 'replicates' on {SHUFFLES} time-shuffled copies of the data ('-' where a "
+            "null cannot test the rule: shuffling only tests claims about a time course, and "
+            "the random null only claims that read the normal condition). A rule that "
+            f"replicates on {LEVEL_LIKE:.0%} of its shuffled copies or more cannot tell a time "
+            "course from a level: its verdict is flagged and counted apart. "
+            "Machine-readable: claims.csv beside this report.\n",
+            _claims_table(results, nulls=True), *_tally(results)]
 
 
 def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
-    head = "| # | section | paper's claim | our rule | our measurement | verdict |"
+    head = ("| # | section | paper's claim | our rule | our measurement | criteria: interval "
+            "vs region | verdict |")
     rows = [head + (" random null | shuffled null |" if nulls else ""),
-            "|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
+            "|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
-        row = (f"| {i} | {r.claim.section} | {claim} | {r.claim.rule} | "
-               f"{r.ours.replace('|', '/')} | **{r.verdict}** |")
+        criteria = "<br>".join(c.text() for c in r.judged.criteria) or "-"
+        flag = " (cannot tell a time course from a level)" if r.flagged else ""
+        row = "| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
+                                               r.ours, criteria))) + f" | **{r.verdict}**{flag} |"
         if nulls and r.nulls is not None:
             shuffled = "-" if r.nulls.shuffled != r.nulls.shuffled else f"{r.nulls.shuffled:.0%}"
             row += f" {r.nulls.random} | {shuffled} |"
@@ -259,28 +309,83 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
     return "\n".join(rows) + "\n"
 
 
-CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "measurement",
-                 "estimate", "ci_low", "ci_high", "n_runs", "comparison", "difference",
-                 "difference_ci_low", "difference_ci_high", "effect_size_dz", "verdict",
-                 "null_random_verdict", "null_shuffled_replicates"]
+def _escaped(text: str) -> str:
+    """Text for a Markdown table cell (a '|' would end the cell)."""
+    return text.replace("|", "\\|")
 
 
-def claim_row(number: int, r: ClaimResult) -> dict:
-    j, nan = r.judged, float("nan")
-    e, p = j.estimate, j.comparison
+def _tally(results: list[ClaimResult]) -> list[str]:
+    """Verdicts counted for the paper's claims apart from the added ones, and the flagged
+    claims (which cannot tell a time course from a level) apart from both."""
+    groups = [(f"{whose}, {label}", [r for r in results
+                                     if r.claim.added == added and r.flagged == flagged])
+              for whose, added in (("the paper's", False), ("added", True))
+              for label, flagged in (("not flagged", False), ("flagged", True))]
+    return ["\nTally:\n", "| claims | " + " | ".join(VERDICTS) + " | all |",
+            "|---|" + "---|" * (len(VERDICTS) + 1),
+            *(f"| {label} | " + " | ".join(str(sum(r.verdict == v for r in group))
+                                           for v in VERDICTS) + f" | {len(group)} |"
+              for label, group in groups), ""]
+
+
+def _windows(analysis: Analysis) -> list[str]:
+    """Which verdicts change when the early or the late window moves."""
+    if not analysis.moved_windows:
+        return []
+    w, base = analysis.windows, analysis.claims["base"]
+    labels = list(analysis.moved_windows)
+    changed = [(i, r, [analysis.moved_windows[label][i].verdict for label in labels])
+               for i, r in enumerate(base)]
+    changed = [(i, r, v) for i, r, v in changed if any(x != r.verdict for x in v)]
+    spans = {label: f"{label} ({w.label(other.early if other.early != w.early else other.final)})"
+             for label, other in w.moved().items()}
+    lines = ["## Do the verdicts depend on the windows?\n",
+             f"Every claim judged again with the early window ({w.label(w.early)}) moved to "
+             f"the first 5% and 15% of the generations and the late window "
+             f"({w.label(w.final)}) to the last 5% and 15%, one at a time (start, dip and "
+             "first quarter stay). Claims whose verdict changes:\n"]
+    if not changed:
+        return lines + ["None: no claim's verdict depends on these windows.\n"]
+    return lines + ["| # | claim | as judged | " + " | ".join(spans[x] for x in labels) + " |",
+                    "|---|---|---|" + "---|" * len(labels),
+                    *(f"| {i + 1} | {r.claim.key} | {r.verdict} | " + " | ".join(v) + " |"
+                      for i, r, v in changed),
+                    f"\nEvery other claim ({len(base) - len(changed)} of {len(base)}) keeps its "
+                    "verdict.\n"]
+
+
+CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "criterion",
+                 "estimate", "ci_low", "ci_high", "method", "n", "region", "verdict",
+                 "detectable", "effect_size_dz", "criteria", "null_random_verdict",
+                 "null_shuffled_replicates", "flag", "window_changes"]
+
+
+def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
+    """One claim as a claims.csv row: the decisive criterion's interval (docs/analysis.md,
+    'claims.csv'), every criterion in words, the nulls, the flag and the windows that change
+    the verdict (``moved``: window label -> verdict there)."""
+    c, nan = r.judged.decisive, float("nan")
+    e = c.interval if c else None
     return dict(zip(CLAIM_COLUMNS, (
         number, r.claim.key, r.claim.section, r.claim.added, r.claim.paper, r.claim.rule,
-        j.ours, *((e.mean, e.lo, e.hi, e.n) if e is not None else (nan, nan, nan, 0)),
-        j.compared, *((p.diff.mean, p.diff.lo, p.diff.hi, p.effect) if p is not None
-                      else (nan, nan, nan, nan)),
-        j.verdict, r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan)))
+        r.ours, c.what if c else "",
+        *((e.mean, e.lo, e.hi, e.method, e.n, c.region) if c else (nan, nan, nan, "", 0, "")),
+        r.verdict, c.detectable if c else nan,
+        c.comparison.effect if c and c.comparison else nan,
+        "; ".join(x.text() for x in r.judged.criteria),
+        r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
+        "cannot tell a time course from a level" if r.flagged else "",
+        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict))))
 
 
-def write_claims_csv(path: Path, results: list[ClaimResult]) -> None:
+def write_claims_csv(path: Path, results: list[ClaimResult],
+                     moved: dict[str, list[ClaimResult]] | None = None) -> None:
+    moved = moved or {}
     with open(path, "w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, CLAIM_COLUMNS)
         writer.writeheader()
-        writer.writerows(claim_row(i, r) for i, r in enumerate(results, 1))
+        writer.writerows(claim_row(i, r, {label: m[i - 1].verdict for label, m in moved.items()})
+                         for i, r in enumerate(results, 1))
 
 
 def _performance(analysis: Analysis) -> list[str]:
@@ -342,7 +447,7 @@ def _lesion_table(lesion: list[dict]) -> str:
     rows = [f"Final-generation top-20 econets of {len(lesion)} normal runs, {LESION_TRIALS} fresh "
             "trials each: intact, with the proprioceptive inputs severed (the paper's lesion), "
             "and with the visual inputs severed (a control: does any lesion do the same?); "
-            "mean [95% bootstrap CI] over runs:\n",
+            "mean [95% t interval] over runs:\n",
             "| measure | intact | proprioception severed | vision severed |",
             "|---|---|---|---|"]
     for attr, label, digits in LESION_ROWS:

@@ -2,6 +2,7 @@
 generation windows, window means, smoothing and the "mean ± s.d. over runs" format. ROS-free."""
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass
 
@@ -43,19 +44,24 @@ def smooth(curve: np.ndarray, k: int) -> np.ndarray:
     return out
 
 
-@dataclass
+@dataclass(frozen=True)
 class Windows:
-    """Generation windows scaled to the study length G (paper: G = 200)."""
+    """Generation windows scaled to the study length G (paper: G = 200). The early and late
+    windows are the first and last ``early``/``late`` percent of the generations (10 each: the
+    paper's "first 20 generations"); moved() gives them moved, to see which verdicts depend on
+    where they lie."""
 
     G: int
+    early_percent: int = 10
+    late_percent: int = 10
 
     @property
     def start(self) -> slice:        # first 2.5% (5 generations at G = 200)
         return slice(0, max(1, self.G // 40))
 
     @property
-    def early(self) -> slice:        # first 10% (paper: "the first 20 generations")
-        return slice(0, max(1, self.G // 10))
+    def early(self) -> slice:        # first 10% by default (the paper's "first 20 generations")
+        return slice(0, max(1, self.G * self.early_percent // 100))
 
     @property
     def first_quarter(self) -> slice:   # first 25% (paper: "the first 50 generations")
@@ -66,11 +72,17 @@ class Windows:
         return slice(max(1, self.G // 20), max(2, self.G // 4))   # the paper's early slowdown
 
     @property
-    def final(self) -> slice:        # last 10%
-        return slice(self.G - max(1, self.G // 10), self.G)
+    def final(self) -> slice:        # last 10% by default
+        return slice(self.G - max(1, self.G * self.late_percent // 100), self.G)
 
     def label(self, s: slice) -> str:
         return f"gens {s.start}-{s.stop - 1}"
+
+    def moved(self) -> dict[str, "Windows"]:
+        """The window check (docs/analysis.md, "Verdicts"): the early and the late window each
+        moved to 5% and to 15% of the generations, one at a time."""
+        return {f"{name} {percent}%": dataclasses.replace(self, **{f"{name}_percent": percent})
+                for name in ("early", "late") for percent in (5, 15)}
 
 
 def per_run(data: ConditionData, column: str) -> np.ndarray:

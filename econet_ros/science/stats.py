@@ -92,6 +92,17 @@ def share(flags) -> Estimate:
     return Estimate(k / n, lo, hi, n, EXACT_SHARE)
 
 
+def fewest_runs(bound: float, level: float = LEVEL) -> int:
+    """The fewest runs whose share can show a true share >= bound at all: n of n runs give the
+    Clopper-Pearson lower bound ((1 - level) / 2) ** (1 / n), which reaches bound only from
+    this n on (0.7: 11 runs, 0.8: 17, 0.9: 36)."""
+    if bound <= 0:
+        return 1
+    if bound >= 1:
+        raise ValueError("no number of runs shows a share of 1 with an interval")
+    return math.ceil(math.log((1 - level) / 2) / math.log(bound) - 1e-12)
+
+
 def wilson(k: int, n: int, level: float = LEVEL) -> tuple[float, float]:
     """Wilson's score interval of a share k/n."""
     z = distributions.norm.ppf(0.5 + level / 2)

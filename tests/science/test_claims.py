@@ -30,27 +30,96 @@ def noisy(base, scale, seed):
     return base + np.random.default_rng(seed).normal(0, scale, (RUNS, G))
 
 
-@pytest.mark.parametrize("shift, expected", [(5.0, "replicates"), (-5.0, "does not")])
+@pytest.mark.parametrize("shift, expected", [(5.0, "replicates"), (-5.0, "contradicted")])
 def test_fitness_claim_follows_the_paired_interval(shift, expected):
     three = noisy(100.0, 3.0, 1)
     ev = evidence(normal=condition("normal", top_fitness=three + shift),
                   **{"three-layer": condition("three-layer", top_fitness=three)})
     judged = C.fitness_ahead(ev)
     assert judged.verdict == expected
-    assert judged.comparison.diff.mean == pytest.approx(shift)
-    assert judged.comparison.above == (RUNS if shift > 0 else 0)
+    late, early, ahead = judged.criteria
+    assert late.interval.mean == pytest.approx(shift) and late.interval.method == "t"
+    assert late.comparison.above == (RUNS if shift > 0 else 0)
+    assert judged.decisive is late          # the first criterion with the claim's verdict
 
 
-def test_a_difference_inside_the_noise_is_only_partly():
+def test_a_difference_inside_the_noise_is_inconclusive():
     rng = np.random.default_rng(3)
     three = noisy(100.0, 3.0, 4)
-    late = np.zeros((RUNS, G))
-    late[:, -4:] = rng.normal(0.5, 20.0, (RUNS, 1))        # late: tiny mean, huge spread
+    late = np.full((RUNS, G), 5.0)                         # clearly ahead early ...
+    late[:, -4:] = rng.normal(0.5, 20.0, (RUNS, 1))        # ... late: tiny mean, huge spread
     ev = evidence(normal=condition("normal", top_fitness=three + late),
                   **{"three-layer": condition("three-layer", top_fitness=three)})
     judged = C.fitness_ahead(ev)
-    assert judged.comparison.diff.lo < 0 < judged.comparison.diff.hi
-    assert judged.verdict in ("partly", "does not")
+    assert judged.criteria[0].interval.lo < 0 < judged.criteria[0].interval.hi
+    assert [c.verdict for c in judged.criteria] == ["inconclusive", "replicates", "replicates"]
+    assert judged.verdict == "inconclusive" and judged.decisive is judged.criteria[0]
+
+
+def test_ahead_early_in_too_few_runs_withholds_replication_without_contradicting():
+    three = noisy(100.0, 1.0, 7)
+    shift = np.where(np.arange(RUNS) < 7, 10.0, -1.0)[:, None]      # ahead in 7 of 10
+    ev = evidence(normal=condition("normal", top_fitness=three + shift),
+                  **{"three-layer": condition("three-layer", top_fitness=three)})
+    judged = C.fitness_ahead(ev)
+    late, early, ahead = judged.criteria
+    assert late.verdict == early.verdict == "replicates"
+    assert ahead.interval.mean == 0.7 and ahead.verdict == "inconclusive"
+    assert judged.verdict == "inconclusive"
+
+
+def test_chance_is_the_random_conditions_level_not_one_half():
+    """Non-fixated approach at 0.52 is above 0.5 but below random movement's 0.53 in this
+    geometry: not above chance."""
+    normal = condition("normal", top_approach_nofix=noisy(np.full(G, 0.52), 0.003, 8))
+    random = condition("random", top_approach_nofix=noisy(np.full(G, 0.53), 0.003, 9))
+    judged = C.unfixated_above_chance(evidence(normal=normal, random=random))
+    assert judged.criteria[0].interval.hi < 0 and judged.verdict == "contradicted"
+    higher = condition("random", top_approach_nofix=noisy(np.full(G, 0.50), 0.003, 9))
+    assert C.unfixated_above_chance(evidence(normal=normal, random=higher)).verdict == \
+        "replicates"
+
+
+def joints(shoulder_flexion):
+    """A normal condition whose runs' shoulders have these late flexion %."""
+    flexion = np.repeat(np.asarray(shoulder_flexion, float)[:, None], G, axis=1)
+    return condition("normal", all_shoulder_flexion=flexion, all_shoulder_angle=175.0,
+                     all_elbow_flexion=50.0, all_elbow_angle=90.0, all_elbow_moving=0.5)
+
+
+@pytest.mark.parametrize("locked, expected", [(10, "inconclusive"), (7, "inconclusive"),
+                                              (6, "contradicted")])
+def test_a_share_of_runs_is_judged_on_its_exact_interval(locked, expected):
+    """'All ten runs' as a share >= 0.9: 10 of 10 ([0.69, 1]) cannot show it, 6 of 10
+    ([0.26, 0.88]) contradicts it."""
+    judged = C.shoulder_locked(evidence(normal=joints([2.0] * locked + [50.0] * (RUNS - locked))))
+    (criterion,) = judged.criteria
+    assert criterion.interval.method == "Clopper-Pearson" and criterion.interval.mean == locked / 10
+    assert judged.verdict == expected and "replicable from n = 36" in criterion.text()
+
+
+def reaches(**changes):
+    base = dict(success_rate=1.0, latency=10, approach_prob=0.5, path_efficiency=0.5,
+                turning=10, final_approach_cycles=5, start_spread_body=5, start_spread_world=5,
+                start_radius=20, trial_start_spread_body=30, n_reaches=10)
+    return ReachSummary(**{**base, **changes})
+
+
+def test_lesion_disorganised_needs_three_of_four_measures_worse():
+    def lesion(turning_shift, success_shift):
+        return [{"intact": reaches(approach_prob=0.5, path_efficiency=0.5, turning=10,
+                                   success_rate=0.8),
+                 "lesioned": reaches(approach_prob=0.4 - 0.01 * (i % 3),
+                                     path_efficiency=0.3 - 0.01 * (i % 2),
+                                     turning=10 + turning_shift + i % 2,
+                                     success_rate=0.8 + success_shift + 0.01 * (i % 3))}
+                for i in range(RUNS)]
+    three = C.lesion_disorganises(Evidence({}, lesion(+5, +0.1), Windows(G)))
+    assert [c.verdict for c in three.criteria] == ["replicates", "replicates", "replicates",
+                                                   "contradicted"]
+    assert three.verdict == "replicates"
+    two = C.lesion_disorganises(Evidence({}, lesion(-5, +0.1), Windows(G)))
+    assert two.verdict == "contradicted"          # two contradicted: three of four cannot
 
 
 def test_first_passage_is_the_first_generation_that_holds():
@@ -66,18 +135,24 @@ def test_lock_speed_reads_first_passage_not_staying_locked():
                        all_elbow_flexion=50.0, all_elbow_angle=90.0, all_elbow_moving=0.5)
     judged = C.lock_speed(evidence(normal=normal))
     # smoothed over G/20 = 2 generations, flexion is first dominated at generation 7
-    assert judged.estimate.mean == 7 and judged.verdict == "replicates"
+    assert judged.criteria[1].interval.mean == 7 and judged.verdict == "replicates"
+
+
+def test_no_run_locking_contradicts_lock_speed_without_a_speed_to_judge():
+    judged = C.lock_speed(evidence(normal=joints([50.0] * RUNS)))
+    (locks,) = judged.criteria                      # 0 of 10: [0, 0.31], below 0.5
+    assert locks.interval.hi < 0.5 and judged.verdict == "contradicted"
+    assert judged.ours == "no run's shoulder ever locks"
 
 
 def test_lesion_start_needs_its_premise():
-    def summary(spread, start_spread):
-        return ReachSummary(1, 10, 0.5, 0.5, 10, 5, spread, spread, 20, start_spread, 10)
-    scattered = [{"intact": summary(30, 30), "lesioned": summary(40, 30)} for _ in range(RUNS)]
-    ev = Evidence({}, scattered, Windows(G))
-    judged = C.lesion_scatters_start(ev)
-    assert judged.verdict == "does not" and "premise fails" in judged.ours
-    tight = [{"intact": summary(5 + i % 2, 30), "lesioned": summary(25 + i % 3, 30)}
-             for i in range(RUNS)]
+    scattered = [{"intact": reaches(start_spread_body=30),
+                  "lesioned": reaches(start_spread_body=40 + i % 2)} for i in range(RUNS)]
+    judged = C.lesion_scatters_start(Evidence({}, scattered, Windows(G)))
+    assert judged.verdict == "contradicted" and "premise fails" in judged.ours
+    assert judged.criteria[1].verdict == "replicates"     # the spread grows, but from no one place
+    tight = [{"intact": reaches(start_spread_body=5 + i % 2),
+              "lesioned": reaches(start_spread_body=25 + i % 3)} for i in range(RUNS)]
     assert C.lesion_scatters_start(Evidence({}, tight, Windows(G))).verdict == "replicates"
 
 
@@ -93,6 +168,43 @@ def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
     nulls = C.null_checks(claim, ev)
     assert nulls.random != "replicates"
     assert nulls.shuffled <= 0.2
+
+
+def test_a_level_that_holds_throughout_is_flagged_by_its_shuffled_nulls():
+    """Non-fixated approach above random's all through training 'replicates' early and on
+    every shuffle: the rule cannot tell the paper's early excess from a constant level. Its
+    random null differs from random by exactly 0 and so contradicts '> 0'."""
+    normal = condition("normal", top_approach_nofix=noisy(np.full(G, 0.56), 0.01, 10))
+    random = condition("random", top_approach_nofix=noisy(np.full(G, 0.50), 0.01, 11))
+    results = {r.claim.key: r for r in C.evaluate({"normal": normal, "random": random}, [],
+                                                  Windows(G), nulls=True)}
+    level = results["nofix-above-chance"]
+    assert level.verdict == "replicates" and level.nulls.shuffled == 1.0 and level.flagged
+    assert level.nulls.random == "contradicted"
+    assert not results["random-chance"].flagged          # no shuffled null: never flagged
+
+
+def test_a_verdict_can_depend_on_where_the_late_window_lies():
+    """P(approach | fixated) 0.4 early, down to 0.25, up to 0.7 in the last two generations:
+    the last 5% show the rise, the last 15% average it away."""
+    curve = np.full(G, 0.4)
+    curve[-6:-2], curve[-2:] = 0.25, 0.7
+    ev = {"normal": condition("normal", top_approach_fix=noisy(curve, 0.01, 12))}
+    claim = next(c for c in C.CLAIMS if c.key == "approach-increases")
+    verdicts = {label: C.judge(claim, Evidence(ev, [], w)).verdict
+                for label, w in Windows(G).moved().items()}
+    assert C.judge(claim, Evidence(ev, [], Windows(G))).verdict == "replicates"
+    assert verdicts == {"early 5%": "replicates", "early 15%": "replicates",
+                        "late 5%": "replicates", "late 15%": "inconclusive"}
+
+
+def test_the_moved_windows_are_the_first_and_last_5_and_15_percent():
+    moved = Windows(200).moved()
+    assert [(w.early, w.final) for w in moved.values()] == [
+        (slice(0, 10), slice(180, 200)), (slice(0, 30), slice(180, 200)),
+        (slice(0, 20), slice(190, 200)), (slice(0, 20), slice(170, 200))]
+    assert (Windows(200).early, Windows(200).final, Windows(4).early) == (
+        slice(0, 20), slice(180, 200), slice(0, 1))
 
 
 def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():

@@ -8,12 +8,13 @@ import pytest
 from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.errors import ResultsError
-from econet_ros.science.claims import CLAIMS, VERDICTS, Claim, Judged, evaluate, judge
+from econet_ros.science.claims import CLAIMS, Claim, Judged, evaluate, judge
 from econet_ros.science.evidence import Evidence
 from econet_ros.science.lesion import lesion_study
 from econet_ros.science.report import build_report
 from econet_ros.science.series import Windows
 from econet_ros.science.study import StudySpec, load_study, run_study
+from econet_ros.science.verdicts import VERDICTS
 
 TINY = ["--runs", "2", "--generations", "4", "--population", "10", "--parents", "2",
         "--trials", "3", "--cycles", "25", "--quiet", "--jobs", "1"]
@@ -65,10 +66,18 @@ def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
                   "reciprocal activation pattern", "roughly 25%", "Severing the proprioceptive",
                   "first 50 generations", "slowdown of hand", "is 0.5"):
         assert claim in text
-    table = [line for line in text.splitlines() if line.startswith("| ") and "**" in line]
+    table = [line for line in text.splitlines() if line.startswith("| ") and "| **" in line]
     assert len(table) == 2 * len(CLAIMS)     # every claim, for the base study and the variant
-    assert all(any(v in line for v in ("replicates", "partly", "does not", "n/a"))
-               for line in table)
+    assert all(any(f"**{v}**" in line for v in VERDICTS) for line in table)
+    assert "| the paper's, not flagged |" in text and "| added, flagged |" in text
+    assert "## Hold or brush, per run" in text and "## Do the verdicts depend on the windows?" \
+        in text
+    claims = rows(tmp_path / "claims.csv")
+    assert [row["key"] for row in claims] == [claim.key for claim in CLAIMS]
+    assert all(row["verdict"] in VERDICTS for row in claims)
+    measured = [row for row in claims if row["verdict"] != "n/a"]
+    assert measured and all(row["method"] in ("t", "Clopper-Pearson", "count") and
+                            int(row["n"]) >= 1 and row["criteria"] for row in measured)
     assert "All runs of all conditions are complete" in text
     assert "the algorithm's?" not in text          # no optimizer variants, no such section
 
@@ -84,7 +93,7 @@ def test_claims_table_is_judged_claim_by_claim_in_order(tiny_study):
     spec, groups = load_study(tiny_study)
     base = groups["base"]
     results = evaluate(base, lesion_study(base["normal"].run_dirs),
-                       spec.config.evolution.generations)
+                       Windows(spec.config.evolution.generations))
     assert [result.claim for result in results] == CLAIMS
     assert all(result.verdict in VERDICTS and result.ours for result in results)
     assert any(result.verdict != "n/a" for result in results)
@@ -93,14 +102,14 @@ def test_claims_table_is_judged_claim_by_claim_in_order(tiny_study):
 def test_a_claim_that_cannot_be_measured_says_why(tiny_study):
     _, groups = load_study(tiny_study)
     without = {c: d for c, d in groups["base"].items() if c != "three-layer"}
-    results = {result.claim.key: result for result in evaluate(without, [], 4)}
+    results = {result.claim.key: result for result in evaluate(without, [], Windows(4))}
     fitness = results["fitness"]
     assert (fitness.ours, fitness.verdict) == ("not measurable: no three-layer runs", "n/a")
     assert results["lesion-start"].ours == "not measurable: no normal runs"
     assert results["shoulder-locked"].verdict != "n/a"
     broken = Claim("broken", "test", "words", "rule", lambda evidence: {}["column"])
-    assert judge(broken, Evidence(without, [], Windows(4))) == Judged(
-        "not measurable (KeyError: 'column')", "n/a")
+    judged = judge(broken, Evidence(without, [], Windows(4)))
+    assert judged == Judged("not measurable (KeyError: 'column')") and judged.verdict == "n/a"
 
 
 def test_interrupted_behaviour_is_refilled_by_replay(tiny_study, tmp_path):

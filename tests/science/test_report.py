@@ -1,0 +1,138 @@
+"""The report's claim and holding sections on hand-made results whose answers are known: the
+holding table, the tally (the paper's claims apart from the added ones, flagged ones apart),
+the window table, claims.csv, and what the optimizer study concludes from three verdicts."""
+import csv
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from econet_ros.science import report
+from econet_ros.science.claims import CLAIMS, ClaimResult, Judged, Nulls
+from econet_ros.science.optimizer_study import Comparison
+from econet_ros.science.series import Windows
+from econet_ros.science.stats import Estimate, paired, share
+from econet_ros.science.study import ConditionData
+from econet_ros.science.verdicts import above
+
+G, RUNS = 20, 10
+CLAIM = {claim.key: claim for claim in CLAIMS}
+
+
+def condition(name, **columns):
+    table = {k: np.broadcast_to(np.asarray(v, float), (RUNS, G)).copy()
+             for k, v in columns.items()}
+    return ConditionData(name, Path(name), G, table, {}, [G] * RUNS,
+                         [Path(f"run-{i:02d}") for i in range(1, RUNS + 1)], [])
+
+
+def test_holding_counts_runs_that_hold_brush_or_never_reach():
+    per_run = lambda values: np.array(values, float)[:, None]  # noqa: E731
+    separations = per_run([2] * 7 + [250] * 2 + [0])     # per generation, 10 successes each:
+    successes = per_run([10] * 9 + [0])                   # 0.2 (holds) x7, 25 x2, none x1
+    normal = condition("normal", top_separations=separations, top_successes=successes,
+                       top_fitness=per_run([900] * 7 + [100] * 3))
+    lines = report._holding(SimpleNamespace(windows=Windows(G), groups={"base": {
+        "normal": normal}}))
+    summary = next(line for line in lines if line.startswith("| normal |"))
+    assert "| 7 / 2 / 1 |" in summary
+    assert share([1] * 7 + [0] * 3).text() in summary       # 0.70 [0.35, 0.93] (n=10)
+    assert "0.20 [0.20, 25.00] (n=9)" in summary              # the median of 9 reaching runs
+    assert "| 660 [384, 936] (n=10); 900 [100, 900] (n=10) |" in summary   # mean; median
+    assert "| run-01 | 0.20 (holds) |" in lines and "| run-08 | 25.00 (brushes) |" in lines
+    assert "| run-10 | n/a (does not reach) |" in lines
+
+
+def result(key, verdict, shuffled=math.nan, spread=1.0):
+    """A claim result whose one criterion gives the verdict asked for."""
+    low = {"replicates": 1.0, "contradicted": -3.0, "inconclusive": -0.5}[verdict]
+    difference = paired(low + np.linspace(0, spread, RUNS), np.zeros(RUNS))
+    judged = Judged(f"{key} measured", (above(f"{key} difference", difference),))
+    assert judged.verdict == verdict
+    return ClaimResult(CLAIM[key], judged, Nulls("contradicted", shuffled))
+
+
+def test_the_tally_keeps_added_and_flagged_claims_apart():
+    results = [result("fitness", "replicates"), result("latency", "contradicted"),
+               result("lock-speed", "replicates", shuffled=1.0),            # flagged
+               result("others-mobile", "inconclusive"),                     # added
+               result("two-joint-search", "replicates", shuffled=0.5)]      # added, flagged
+    lines = report._tally(results)
+    assert "| the paper's, not flagged | 1 | 1 | 0 | 0 | 2 |" in lines
+    assert "| the paper's, flagged | 1 | 0 | 0 | 0 | 1 |" in lines
+    assert "| added, not flagged | 0 | 0 | 1 | 0 | 1 |" in lines
+    assert "| added, flagged | 1 | 0 | 0 | 0 | 1 |" in lines
+    table = report._claims_table(results, nulls=True)
+    assert table.count("(cannot tell a time course from a level)") == 2
+    assert "P(approach" not in table and "detectable" in table
+
+
+def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
+    base = [result("fitness", "replicates"), result("latency", "contradicted")]
+    moved = {label: list(base) for label in Windows(200).moved()}
+    moved["late 15%"] = [base[0], result("latency", "inconclusive")]
+    analysis = SimpleNamespace(windows=Windows(200), claims={"base": base},
+                               moved_windows=moved)
+    lines = report._windows(analysis)
+    rows = [line for line in lines if line.startswith("| 2 |")]
+    assert rows == ["| 2 | latency | contradicted | contradicted | contradicted | contradicted "
+                    "| inconclusive |"]
+    assert not any(line.startswith("| 1 |") for line in lines)
+    assert "late 15% (gens 170-199)" in lines[2] and "early 5% (gens 0-9)" in lines[2]
+    unmoved = {label: list(base) for label in Windows(200).moved()}
+    assert "None: no claim's verdict depends" in report._windows(SimpleNamespace(
+        windows=Windows(200), claims={"base": base}, moved_windows=unmoved))[-1]
+
+
+def test_claims_csv_has_the_deciding_interval_its_method_power_and_flags(tmp_path):
+    results = [result("fitness", "inconclusive"), result("lock-speed", "replicates", 0.9)]
+    moved = {"early 5%": [results[0], result("lock-speed", "contradicted")]}
+    path = tmp_path / "claims.csv"
+    report.write_claims_csv(path, results, moved)
+    rows = list(csv.DictReader(open(path, newline="")))
+    assert list(rows[0]) == report.CLAIM_COLUMNS
+    first, second = rows
+    criterion = results[0].judged.criteria[0]
+    assert (first["criterion"], first["method"], first["n"], first["region"]) == (
+        "fitness difference", "t", "10", "> 0")
+    assert float(first["ci_low"]) == pytest.approx(criterion.interval.lo)
+    assert float(first["detectable"]) == pytest.approx(criterion.comparison.detectable)
+    assert first["verdict"] == "inconclusive" and first["flag"] == "" and \
+        first["window_changes"] == ""
+    assert second["flag"] == "cannot tell a time course from a level"
+    assert second["window_changes"] == "early 5%: contradicted"
+    assert second["null_random_verdict"] == "contradicted"
+
+
+def test_a_claim_without_criteria_is_written_as_not_measured(tmp_path):
+    unmeasured = ClaimResult(CLAIM["fitness"], Judged("not measurable: no three-layer runs"))
+    report.write_claims_csv(tmp_path / "claims.csv", [unmeasured])
+    (row,) = csv.DictReader(open(tmp_path / "claims.csv", newline=""))
+    assert (row["verdict"], row["criterion"], row["n"], row["estimate"]) == ("n/a", "", "0",
+                                                                             "nan")
+
+
+@pytest.mark.parametrize("ga, others, expected", [
+    ("replicates", ("replicates", "replicates"), "Under every optimizer (the task's): "
+                                                 "shoulder locking"),
+    ("replicates", ("contradicted", "contradicted"), "(the algorithm's): shoulder locking"),
+    ("replicates", ("contradicted", "inconclusive"), "Cannot be told from these runs: shoulder "
+                                                     "locking (GA (paper) replicates, CMA-ES "
+                                                     "contradicted, ES inconclusive)"),
+    ("contradicted", ("contradicted", "contradicted"), "Absent under every optimizer: "
+                                                       "shoulder locking"),
+])
+def test_the_optimizer_study_reads_three_verdicts(ga, others, expected):
+    verdicts = dict(zip(("ga", "cmaes", "es"), (ga, *others)))
+    claims = {opt: [result("shoulder-locked", v)] + [result(key, "inconclusive") for key in
+                                                     ("elbow-coactivated", "stereotyped-start",
+                                                      "hand-slowdown")]
+              for opt, v in verdicts.items()}
+    comparison = Comparison(dict.fromkeys(verdicts), claims, Windows(G))
+    assert any(expected in line for line in comparison._conclusion())
+
+
+def test_an_estimate_without_runs_gives_no_verdict():
+    assert above("x", Estimate(math.nan, math.nan, math.nan, 0)).verdict == "n/a"

@@ -1,0 +1,88 @@
+"""The verdict mechanism on intervals whose answers are known: a criterion against its region,
+open and closed edges, a count that cannot contradict, and the combination of criteria."""
+import math
+
+import pytest
+
+from econet_ros.science.stats import EXACT_SHARE, Estimate, fewest_runs, paired, share
+from econet_ros.science.verdicts import (CONTRADICTED, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
+                                         above, below, combine, sign_count, within)
+
+
+def interval(lo, hi, n=10):
+    return Estimate((lo + hi) / 2, lo, hi, n)
+
+
+@pytest.mark.parametrize("lo, hi, expected", [(0.1, 0.5, REPLICATES), (-0.5, -0.1, CONTRADICTED),
+                                              (-0.1, 0.5, INCONCLUSIVE)])
+def test_an_interval_inside_outside_or_across_the_region(lo, hi, expected):
+    assert above("d", interval(lo, hi)).verdict == expected
+    assert below("-d", interval(-hi, -lo)).verdict == expected
+
+
+def test_within_a_band_and_across_either_edge():
+    assert within("p", interval(0.46, 0.54), 0.45, 0.55).verdict == REPLICATES
+    assert within("p", interval(0.40, 0.50), 0.45, 0.55).verdict == INCONCLUSIVE
+    assert within("p", interval(0.56, 0.60), 0.45, 0.55).verdict == CONTRADICTED
+    assert within("p", interval(0.30, 0.70), 0.45, 0.55).verdict == INCONCLUSIVE
+
+
+def test_a_degenerate_zero_difference_is_no_increase_but_meets_a_closed_bound():
+    """Random movement in the normal condition's place differs from random movement by exactly
+    0 in every run: that must contradict "> 0", not replicate it."""
+    zero = paired([0.5] * 10, [0.5] * 10)
+    assert (zero.diff.lo, zero.diff.hi) == (0.0, 0.0)
+    assert above("normal - random", zero).verdict == CONTRADICTED
+    assert above("normal - random", zero, closed=True).verdict == REPLICATES
+    assert within("normal - random", zero, -0.05, 0.05).verdict == REPLICATES
+
+
+def test_a_count_can_withhold_replication_but_not_contradict():
+    seven = paired([1.0] * 7 + [0.0] * 3, [0.0] * 7 + [1.0] * 3)
+    ahead = sign_count(seven)
+    assert (ahead.mean, ahead.lo, ahead.hi, ahead.n) == (0.7, 0.7, 0.7, 10)
+    assert above("ahead", ahead, 0.8, closed=True, contradicts=False).verdict == INCONCLUSIVE
+    assert above("ahead", ahead, 0.8, closed=True).verdict == CONTRADICTED
+    eight = above("ahead", sign_count(paired([1.0] * 8 + [0.0] * 2, [0.0] * 10)), 0.8,
+                  closed=True, contradicts=False)
+    assert eight.verdict == REPLICATES and eight.text() == \
+        "ahead = 8 of 10 runs; region >= 0.8: replicates"
+
+
+def test_nothing_measured_is_na_and_one_run_is_inconclusive():
+    assert above("d", Estimate(math.nan, math.nan, math.nan, 0)).verdict == NOT_JUDGED
+    assert above("d", Estimate(3.0, math.nan, math.nan, 1)).verdict == INCONCLUSIVE
+    assert within("d", interval(0.1, 0.2), math.nan, math.nan).verdict == NOT_JUDGED
+
+
+@pytest.mark.parametrize("verdicts, needed, expected", [
+    ([REPLICATES, REPLICATES], None, REPLICATES),
+    ([REPLICATES, INCONCLUSIVE], None, INCONCLUSIVE),
+    ([REPLICATES, CONTRADICTED, INCONCLUSIVE], None, CONTRADICTED),
+    ([REPLICATES, NOT_JUDGED], None, NOT_JUDGED),
+    ([CONTRADICTED, NOT_JUDGED], None, CONTRADICTED),
+    ([REPLICATES] * 3 + [CONTRADICTED], 3, REPLICATES),          # 3 of 4 needed
+    ([REPLICATES] * 2 + [CONTRADICTED, INCONCLUSIVE], 3, INCONCLUSIVE),
+    ([REPLICATES] * 2 + [CONTRADICTED] * 2, 3, CONTRADICTED),     # 3 of 4 can no longer
+    ([], None, NOT_JUDGED),
+])
+def test_criteria_combine_into_one_verdict(verdicts, needed, expected):
+    assert combine(verdicts, needed) == expected
+
+
+def test_each_criterion_says_its_region_method_and_power():
+    rise = paired([1.0, 2.0, 3.0, 2.5, 1.5], [0.0] * 5)
+    text = above("rise", rise).text()
+    assert text == (f"rise = {rise.diff.text()}, t; region > 0: replicates; detectable "
+                    f"{rise.detectable:.2f}")
+    locked = above("share locked", share([1] * 10), 0.9, closed=True)
+    assert locked.interval.method == EXACT_SHARE and locked.region == ">= 0.9"
+    assert locked.verdict == INCONCLUSIVE and "replicable from n = 36" in locked.text()
+    assert within("p", interval(0.4, 0.6), 0.45, 0.55).region == "within [0.45, 0.55]"
+    assert below("late", interval(1.0, 2.0), 20.0, closed=True).region == "<= 20"
+
+
+@pytest.mark.parametrize("bound, runs", [(0.5, 6), (0.7, 11), (0.8, 17), (0.9, 36)])
+def test_fewest_runs_is_where_all_runs_first_show_the_bound(bound, runs):
+    assert fewest_runs(bound) == runs
+    assert share([1] * runs).lo >= bound > share([1] * (runs - 1)).lo
