@@ -35,6 +35,7 @@ class Criterion:
     contradicts: bool = True     # False: needed to replicate, but missing it contradicts nothing
     comparison: Paired | None = None      # when the interval is a paired difference
     digits: int = 2
+    floor: float = math.nan      # set: contradicted only when the interval lies wholly below it
 
     @property
     def verdict(self) -> str:
@@ -51,10 +52,14 @@ class Criterion:
             outside = e.hi <= self.low or e.lo >= self.high
         if inside:
             return REPLICATES
+        if np.isfinite(self.floor):
+            outside = e.hi < self.floor
         return CONTRADICTED if outside and self.contradicts else INCONCLUSIVE
 
     @property
     def region(self) -> str:
+        if np.isfinite(self.floor):
+            return f"> {self.low:.3g} (most runs); contradicted below {self.floor:.3g}"
         if np.isfinite(self.low) and np.isfinite(self.high):
             return f"within [{self.low:.3g}, {self.high:.3g}]"
         if np.isfinite(self.low):
@@ -110,6 +115,15 @@ def within(what: str, x: Estimate | Paired, low: float, high: float,
     interval, comparison = _of(x)
     return Criterion(what, interval, low, high, closed=True, comparison=comparison,
                      digits=digits)
+
+
+def most_runs(what: str, runs: Estimate, paper: float) -> Criterion:
+    """A share of runs for what the paper reports as a count of its ten runs (all ten, 9 or 8
+    of 10): replicates when most runs do it (the exact interval above 1/2), is contradicted
+    when the interval lies wholly below the share the paper's count predicts, inconclusive
+    otherwise. Held to the paper's share itself, such a criterion could not replicate at the
+    paper's n = 10 (10 of 10 gives [0.69, 1]; a share >= 0.9 needs 36 runs of 36)."""
+    return Criterion(what, runs, low=0.5, floor=paper)
 
 
 def sign_count(p: Paired) -> Estimate:

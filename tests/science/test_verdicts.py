@@ -6,7 +6,7 @@ import pytest
 
 from econet_ros.science.stats import EXACT_SHARE, Estimate, fewest_runs, paired, share
 from econet_ros.science.verdicts import (CONTRADICTED, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
-                                         above, below, combine, sign_count, within)
+                                         above, below, combine, most_runs, sign_count, within)
 
 
 def interval(lo, hi, n=10):
@@ -80,6 +80,15 @@ def test_each_criterion_says_its_region_method_and_power():
     assert locked.verdict == INCONCLUSIVE and "replicable from n = 36" in locked.text()
     assert within("p", interval(0.4, 0.6), 0.45, 0.55).region == "within [0.45, 0.55]"
     assert below("late", interval(1.0, 2.0), 20.0, closed=True).region == "<= 20"
+
+
+@pytest.mark.parametrize("k, verdict", [(10, REPLICATES), (8, INCONCLUSIVE), (7, INCONCLUSIVE),
+                                        (2, CONTRADICTED)])
+def test_most_runs_replicates_above_half_and_contradicts_below_the_papers_share(k, verdict):
+    # 8 of 10: [0.44, 0.97] spans 0.5; 2 of 10: [0.03, 0.56] lies below the paper's 0.8
+    judged = most_runs("share compliant", share([1] * k + [0] * (10 - k)), 0.8)
+    assert judged.verdict == verdict
+    assert judged.region == "> 0.5 (most runs); contradicted below 0.8"
 
 
 @pytest.mark.parametrize("bound, runs", [(0.5, 6), (0.7, 11), (0.8, 17), (0.9, 36)])
