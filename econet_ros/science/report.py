@@ -523,7 +523,7 @@ def _sweeps(analysis: Analysis) -> list[str]:
              "The decision rules (docs/analysis.md, each committed before the sweeps it judges "
              "ran) applied to each sweep; every sweep's full tables and figures are in its own "
              "summary.\n"]
-    judged, decided = [], None
+    judged, ruled = [], {}
     for folder in analysis.sweeps:
         spec = load_sweep(folder)
         summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
@@ -534,10 +534,14 @@ def _sweeps(analysis: Analysis) -> list[str]:
         lines += [line.replace("## ", "#### ", 1) for line in
                   holding_markdown(spec, rows) + confirm.markdown(spec, rows)
                   + regime_markdown(spec, rows)]
-        if spec.name == "confirm":
-            decided = confirm.decide(spec, rows)
-        elif spec.name not in confirm.RULES:
+        if spec.name in confirm.RULES:
+            ruled[spec.name] = spec, rows
+        else:
             judged += verdicts(spec, rows)
-    if decided:
-        return lines + ["### Choosing the defaults\n", confirm.defaults_sentence(decided) + "\n"]
-    return lines + (defaults_markdown(judged) if judged else [])
+    if "confirm" not in ruled:
+        return lines + (defaults_markdown(judged) if judged else [])
+    figure = os.path.relpath(analysis.folder / "sweeps" / "load-map" / "figures" /
+                             "load_map.png", analysis.folder) if "load-map" in ruled else ""
+    lines += confirm.architecture(*ruled["confirm"], *ruled.get("load-map", ()), figure=figure)
+    return lines + ["### Choosing the defaults\n",
+                    confirm.defaults_sentence(confirm.decide(*ruled["confirm"])) + "\n"]
