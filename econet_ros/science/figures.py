@@ -30,7 +30,7 @@ def make_figures(groups: dict[str, dict[str, ConditionData]], lesion: list[dict]
     """Write every figure the study allows, and the (name, figure) pairs of ``more``, into
     folder; returns {name: PNG path}."""
     folder.mkdir(parents=True, exist_ok=True)
-    return {name: _save(fig, folder / f"{name}.png")
+    return {name: save(fig, folder / f"{name}.png")
             for name, fig in itertools.chain(_drawings(groups, lesion), more)}
 
 
@@ -54,10 +54,11 @@ def _drawings(groups, lesion):
         yield "sensitivity", sensitivity(groups)
 
 
-def _save(fig, path: Path) -> Path:
+def save(fig, path: Path, dpi: int = 110) -> Path:
+    """Lay the figure out, write it (a full disk or a read-only folder: one line) and close it."""
     fig.tight_layout()
-    with writing(path):                     # a full disk or a read-only folder: one line
-        fig.savefig(path, dpi=110)
+    with writing(path):
+        fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
 

@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..figures import hand_path_gallery  # noqa: E402
+from ..figures import hand_path_gallery, save  # noqa: E402
 from ..stats import Estimate  # noqa: E402
 from .spec import SweepSpec  # noqa: E402
 
@@ -49,11 +49,7 @@ def outcome_figure(spec: SweepSpec, late: dict[tuple[str, str, str], Estimate],
     axes.flat[0].legend(fontsize=7)
     fig.suptitle(f"Sweep '{spec.name}': late-window outcomes, mean and 95% t interval over "
                  f"{len(spec.seeds)} seeds")
-    fig.tight_layout()
-    path = folder / "outcomes.png"
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save(fig, folder / "outcomes.png", dpi=90)
 
 
 def comparison_figure(compared: list[dict], folder: Path) -> Path:
@@ -78,21 +74,13 @@ def comparison_figure(compared: list[dict], folder: Path) -> Path:
         ax.set_yticklabels([f"{r['a']} - {r['b']}" for r in mine], fontsize=6)
     fig.suptitle("Paired comparisons (a - b), late window, 95% t interval over seeds",
                  fontsize=9)
-    fig.tight_layout()
-    path = folder / "comparisons.png"
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save(fig, folder / "comparisons.png", dpi=90)
 
 
 def gallery(runs: list[tuple[str, Path]], folder: Path) -> Path:
     """The study's hand-path gallery for the first seed of every cell and condition."""
     fig = hand_path_gallery(runs, trials=4)
-    path = folder / "gallery.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=70)
-    plt.close(fig)
-    return path
+    return save(fig, folder / "gallery.png", dpi=70)
 
 
 def load_map_figure(cells: list[dict], folder: Path) -> Path:
@@ -127,8 +115,4 @@ def load_map_figure(cells: list[dict], folder: Path) -> Path:
     right.legend(fontsize=7)
     fig.suptitle("Holding against mutational load (H3; ringed: the paper's 2% flip rate)",
                  fontsize=10)
-    fig.tight_layout()
-    path = folder / "load_map.png"
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save(fig, folder / "load_map.png", dpi=90)
