@@ -15,7 +15,7 @@ _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # it, not of the files whose functions it inlines (world.py's physics and controllers.py's
 # network run inside trials.py's whole-trial kernel), so after an edit or an update a stale
 # kernel could run. Keying the cache folder by the content of every module with kernels makes
-# any change start a fresh cache (tests/test_core_is_ros_free.py checks that this list names
+# any change start a fresh cache (tests/core/test_layout.py checks that this list names
 # every module with a kernel). An explicit NUMBA_CACHE_DIR is respected.
 KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "trials.py")
 

@@ -127,8 +127,9 @@ class RunStore:
         not hours later), generation 0's genomes, the metrics header, and run.json last: a
         folder without it is an unstarted run and is simply made again."""
         (self.path / "run.json").unlink(missing_ok=True)    # damaged by a crash right here
-        size = sum(dtype.itemsize * np.prod(shape) for dtype, shape in self.layout.values())
-        with writing(self.path, then=f"the run's arrays need {size / 1e6:.1f} MB"):
+        size = int(sum(dtype.itemsize * np.prod(shape) for dtype, shape in self.layout.values()))
+        need = f"{size:,} bytes" if size < 1e6 else f"{size / 1e6:.1f} MB"   # never "0.0 MB"
+        with writing(self.path, then=f"the run's arrays need {need}"):
             try:
                 self._hold_writers({name: np.lib.format.open_memmap(
                     self.path / f"{name}.npy", mode="w+", dtype=dtype, shape=shape)

@@ -6,7 +6,8 @@ sit at the origin of the 100 x 100 workspace); angles are degrees, counter-clock
 positive.
 
 State, per environment
-    body      absolute body-axis/eye angle (unwrapped: it may turn any number of full circles)
+    body      absolute body-axis/eye angle (unwrapped: it may turn any number of full circles;
+              a trial starts it within -360-360)
     shoulder  shoulder joint angle q_s in [0, 180]; 180 = fully extended, 0 = fully flexed
     elbow     elbow joint angle q_e in [0, 180]; 180 = straight arm, 0 = forearm folded back
     object    object centre (x, y); the object is a disk of radius ``object_radius``
@@ -125,11 +126,18 @@ def reach_error(object_xy: np.ndarray, model: ModelConfig) -> str | None:
     return None
 
 
+# A trial's body axis starts within a full turn either way of +x: every direction, in the 0-360
+# or the -180-180 convention. Far beyond is a mistake, not a direction (a start of 1e300 degrees
+# used to run blind: an all-zero retina and non-finite points in the pictures).
+BODY_START_MAX_DEG = 360.0
+
+
 def check_setup(setup: TrialSetup, model: ModelConfig) -> None:
     """Raise SetupError (one line) unless every trial start can be run as given: one value per
-    environment, all finite, the object within reach, both joints within their range, and
-    whole-degree angles when moves are whole degrees. The world node and World.reset apply the
-    same rule, so nothing is silently clipped or rounded."""
+    environment, all finite, the object within reach, the body axis within BODY_START_MAX_DEG
+    of +x, both joints within their range, and whole-degree angles when moves are whole
+    degrees. The world node and World.reset apply the same rule, so nothing is silently
+    clipped or rounded."""
     n = len(setup.body)
     for name, values, width in (("object_xy", setup.object_xy, 2), ("body", setup.body, 1),
                                 ("shoulder", setup.shoulder, 1), ("elbow", setup.elbow, 1)):
@@ -142,9 +150,15 @@ def check_setup(setup: TrialSetup, model: ModelConfig) -> None:
     problem = reach_error(np.asarray(setup.object_xy), model)
     if problem:
         raise SetupError(problem)
-    for name, values in (("shoulder", setup.shoulder), ("elbow", setup.elbow)):
-        if np.min(values, initial=0.0) < 0 or np.max(values, initial=0.0) > model.joint_max_deg:
-            raise SetupError(f"{name} angles must lie within 0-{model.joint_max_deg:g} degrees")
+    for name, values, low, high in (
+            ("body", setup.body, -BODY_START_MAX_DEG, BODY_START_MAX_DEG),
+            ("shoulder", setup.shoulder, 0.0, model.joint_max_deg),
+            ("elbow", setup.elbow, 0.0, model.joint_max_deg)):
+        values = np.asarray(values)
+        outside = (values < low) | (values > high)
+        if np.any(outside):
+            raise SetupError(f"{name} angles must be between {low:g} and {high:g} degrees, got "
+                             f"{float(values[np.argmax(outside)]):g}")
     if model.angle_steps != "continuous":
         for name, values in (("body", setup.body), ("shoulder", setup.shoulder),
                              ("elbow", setup.elbow)):

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-from dataclasses import asdict
 from pathlib import Path
 
 from ..science.sweeps.compare import compare, run_folders
@@ -40,9 +39,9 @@ def run(args: argparse.Namespace) -> int:
             writer = csv.writer(handle)
             writer.writerow(["outcome", "window", "a_mean", "a_ci_low", "a_ci_high", "b_mean",
                              "b_ci_low", "b_ci_high", "difference", "ci_low", "ci_high", "n",
-                             "effect_size", "paired"])
+                             "effect_size", "paired", "interval"])
             for r in rows:
-                writer.writerow([r.outcome, r.window, *list(asdict(r.a).values())[:3],
-                                 *list(asdict(r.b).values())[:3], *asdict(r.diff).values(),
-                                 r.effect, r.paired])
+                writer.writerow([r.outcome, r.window, r.a.mean, r.a.lo, r.a.hi, r.b.mean,
+                                 r.b.lo, r.b.hi, r.diff.mean, r.diff.lo, r.diff.hi, r.diff.n,
+                                 r.effect, r.paired, r.diff.method])
     return 0

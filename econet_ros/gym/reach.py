@@ -124,8 +124,8 @@ class ReachEnv(gymnasium.Env):
     ## Bad input
     One-line errors, all ``ValueError``s and ``econet_ros.errors.EconetError``s: an action of
     another shape, or with NaN or infinite values, raises ``ActionError`` (nothing moves); an
-    unknown reset option, an object out of reach, a joint angle outside 0-180 or a non-finite
-    start raises ``SetupError``.
+    unknown reset option, an object out of reach, a joint angle outside 0-180, a body angle
+    outside -360-360 or a non-finite start raises ``SetupError``.
 
     ## Version History
     v0: the model of econet_ros 0.1 (issue 15).

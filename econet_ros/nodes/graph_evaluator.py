@@ -51,7 +51,6 @@ class GraphEvaluator:
         self.recorder = recorder
         self.executor = None                 # set once the node is spinning
         self.touch: dict[int, dict[int, np.ndarray]] = {}   # trial -> cycle -> contact
-        self.last_touch = time.monotonic()
         self.repeats = 0
         self.recorded_trial = -1
         self.checked_graph = 0.0
@@ -135,15 +134,20 @@ class GraphEvaluator:
         return self._contact(reply.trial, reset_request.cycles, reset_request.n_envs)
 
     def _contact(self, trial: int, cycles: int, n: int) -> np.ndarray:
-        """Spin until touch of cycles 0..cycles of ``trial`` is in; its contact history."""
+        """Spin until touch of cycles 0..cycles of ``trial`` is in; its contact history.
+
+        The stall clock restarts only when a cycle not heard before comes in: the world sends a
+        stalled cycle again every second, and a repeat is no progress."""
         for other in [t for t in self.touch if t != trial]:
             del self.touch[other]
-        self.last_touch = time.monotonic()
         heard = self.touch.setdefault(trial, {})
+        known, advanced_at = len(heard), time.monotonic()
         while len(heard) < cycles + 1:
             self._spin_once()
             heard = self.touch.setdefault(trial, {})
-            self._check_running(len(heard) - 1, cycles)
+            if len(heard) > known:
+                known, advanced_at = len(heard), time.monotonic()
+            self._check_running(advanced_at, len(heard) - 1, cycles)
         self._check_graph(f"after cycle {cycles} of {cycles}")
         contact = np.empty((cycles, n), dtype=bool)
         for t in range(1, cycles + 1):
@@ -154,11 +158,12 @@ class GraphEvaluator:
         del self.touch[trial]
         return contact
 
-    def _check_running(self, cycle: int, cycles: int) -> None:
-        """BatchFailed if the batch cannot finish, or the graph is not one world, one
-        controller and this supervisor any more (looked at every GRAPH_CHECK_SEC)."""
-        if time.monotonic() - self.last_touch > self.stall_timeout:
-            raise BatchFailed(f"no cycle for {self.stall_timeout:g} s after cycle {cycle} of "
+    def _check_running(self, advanced_at: float, cycle: int, cycles: int) -> None:
+        """BatchFailed if the batch cannot finish (no new cycle since ``advanced_at``), or the
+        graph is not one world, one controller and this supervisor any more (looked at every
+        GRAPH_CHECK_SEC)."""
+        if time.monotonic() - advanced_at > self.stall_timeout:
+            raise BatchFailed(f"no new cycle for {self.stall_timeout:g} s after cycle {cycle} of "
                               f"{cycles} (controller or world gone?)")
         if time.monotonic() - self.checked_graph > GRAPH_CHECK_SEC:
             self._check_graph(f"at cycle {cycle} of {cycles}")
@@ -219,7 +224,6 @@ class GraphEvaluator:
             self.node.get_logger().error(f"lockstep broken: cycle {cycle} of trial {trial} "
                                          "arrived twice, different")
         cycles[cycle] = msg["contact"]          # the same again: the world sent it again
-        self.last_touch = time.monotonic()
 
     def spin_until(self, done, timeout: float) -> bool:
         deadline = time.monotonic() + timeout

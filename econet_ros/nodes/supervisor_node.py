@@ -59,8 +59,9 @@ RUN_PARAMETERS = (
                              "generations (and the last); 0 = never", low=0),
     Param("record_dir", "", "folder of the bags; empty = <out>/bags"),
     Param("overwrite", False, "delete out/run-* first instead of resuming them"),
-    Param("stall_timeout_sec", 3.0, "test a generation again when no cycle arrives for this "
-                                    "long", low=0.01),
+    Param("stall_timeout_sec", 3.0, "test a generation again when no new cycle arrives for "
+                                    "this long (a cycle the world sends again is not new)",
+          low=0.01),
     Param("service_timeout_sec", 5.0, "wait this long for a service reply before retrying",
           low=0.01),
     Param("linger_sec", 1.0, "stay this long after the last generation so that late monitors "

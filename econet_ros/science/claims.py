@@ -26,10 +26,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .evidence import LOCK, Evidence, dominated, first_passage, share
+from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
-from .stats import Estimate, Paired, estimate
+from .stats import Estimate, Paired, estimate, share
 
 VERDICTS = ("replicates", "partly", "does not", "n/a")
 SHUFFLES = 20          # time-shuffled nulls per claim

@@ -113,11 +113,6 @@ def _shuffled(data: ConditionData, rng: np.random.Generator) -> ConditionData:
     return dataclasses.replace(data, metrics=take(data.metrics), behaviour=take(data.behaviour))
 
 
-def share(flags) -> Estimate:
-    """The share of runs for which a condition holds, with its bootstrap interval."""
-    return estimate(np.asarray(flags, dtype=float))
-
-
 # -- per-run joint classification ----------------------------------------------------------
 def joint_table(data: ConditionData, windows: Windows) -> list[dict]:
     """Per run: final-window flexion % and angle of both joints, whether the shoulder is

@@ -1,6 +1,6 @@
 """Are the constraints the task's or the algorithm's? The paper's GA against CMA-ES and an
 evolution strategy on the same network, fitness and budget (the study's optimizer variants,
-study.OPTIMIZER_VARIANTS; docs/gym.md): fitness curves with 95% bootstrap intervals over runs,
+study.OPTIMIZER_VARIANTS; docs/gym.md): fitness curves with 95% t intervals over runs,
 the four emergent constraints' measures per generation, and the study's claims on each
 constraint judged under each optimizer. ROS-free."""
 from __future__ import annotations
@@ -18,12 +18,11 @@ from .evidence import Evidence  # noqa: E402
 from .figures import series  # noqa: E402
 from .measures import CHANCE  # noqa: E402
 from .series import Windows, nanmean  # noqa: E402
-from .stats import bootstrap_ci  # noqa: E402
+from .stats import t_interval  # noqa: E402
 from .study import ConditionData, StudySpec, optimizer_only  # noqa: E402
 
 NAMES = {"ga": "GA (paper)", "cmaes": "CMA-ES", "es": "ES"}
 COLORS = {"ga": "tab:blue", "cmaes": "tab:red", "es": "tab:green"}
-CURVE_RESAMPLES = 2000     # bootstrap resamples per generation of a curve's band
 APPEARS = ("replicates", "partly")
 
 # Each constraint: its section of the claims table, the claim that says it appears at all, and
@@ -95,7 +94,7 @@ class Comparison:
             ax.set_xlabel("generation")
             ax.legend(fontsize=8)
         fig.suptitle("Fitness under each optimizer: same network, trials and budget (mean over "
-                     "runs, band: 95% bootstrap interval)")
+                     "runs, band: 95% t interval)")
         return fig
 
     def constraints_figure(self):
@@ -110,7 +109,7 @@ class Comparison:
             ax.set_xlabel("generation")
         axes[0, 0].legend(fontsize=8)
         fig.suptitle("The four constraints' measures under each optimizer (mean over runs, band: "
-                     "95% bootstrap interval; before first contact)")
+                     "95% t interval; before first contact)")
         return fig
 
     # -- the report's section -----------------------------------------------------------------
@@ -154,10 +153,10 @@ class Comparison:
     def _conclusion(self) -> list[str]:
         everywhere, ga_only, elsewhere, nowhere = [], [], [], []
         for label, _, key in CONSTRAINTS:
-            seen = {opt for opt in self.arms if self.verdict(opt, key) in APPEARS}
-            if seen == set(self.arms):
+            seen = [opt for opt in self.arms if self.verdict(opt, key) in APPEARS]  # arms' order
+            if seen == list(self.arms):
                 everywhere.append(label)
-            elif seen == {"ga"}:
+            elif seen == ["ga"]:
                 ga_only.append(label)
             elif seen:
                 elsewhere.append(f"{label} (under {', '.join(NAMES[o] for o in seen)})")
@@ -188,8 +187,8 @@ class Comparison:
 
 
 def ci_band(ax, values: np.ndarray, label: str, color: str) -> None:
-    """Mean over runs per generation, with its 95% bootstrap interval as a band."""
+    """Mean over runs per generation, with its 95% t interval as a band."""
     x = np.arange(values.shape[1])
-    bounds = np.array([bootstrap_ci(column, resamples=CURVE_RESAMPLES) for column in values.T])
+    bounds = np.array([t_interval(column) for column in values.T])
     ax.plot(x, nanmean(values, axis=0), color=color, lw=1.4, label=label)
     ax.fill_between(x, bounds[:, 0], bounds[:, 1], color=color, alpha=0.2, lw=0)

@@ -24,9 +24,10 @@ from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import estimate
 from .study import ConditionData, StudySpec, load_study, optimizer_only
+from .sweeps import confirm
 from .sweeps.outcomes import tidy_rows
 from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
-from .sweeps.report import build_sweep_report
+from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.spec import load_sweep
 
 
@@ -408,13 +409,16 @@ def _optimizers(analysis: Analysis) -> list[str]:
 
 
 def _sweeps(analysis: Analysis) -> list[str]:
-    """Each sweep's decision-rule table and the path to its own summary."""
+    """Each sweep's decision-rule tables (the pre-registered rule's for the sweeps it names) and
+    the path to its own summary; then the choice of defaults, by the confirmatory rule when its
+    sweep is among them, else by the earlier decision rule."""
     if not analysis.sweeps:
         return []
     lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
-             "The decision rule (docs/analysis.md, committed before the sweeps ran) applied to "
-             "each sweep; every sweep's full tables and figures are in its own summary.\n"]
-    judged = []
+             "The decision rules (docs/analysis.md, each committed before the sweeps it judges "
+             "ran) applied to each sweep; every sweep's full tables and figures are in its own "
+             "summary.\n"]
+    judged, decided = [], None
     for folder in analysis.sweeps:
         spec = load_sweep(folder)
         summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
@@ -422,6 +426,13 @@ def _sweeps(analysis: Analysis) -> list[str]:
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
         rows = tidy_rows(spec, folder)
-        lines += [line.replace("## ", "#### ", 1) for line in regime_markdown(spec, rows)]
-        judged += verdicts(spec, rows)
+        lines += [line.replace("## ", "#### ", 1) for line in
+                  holding_markdown(spec, rows) + confirm.markdown(spec, rows)
+                  + regime_markdown(spec, rows)]
+        if spec.name == "confirm":
+            decided = confirm.decide(spec, rows)
+        elif spec.name not in confirm.RULES:
+            judged += verdicts(spec, rows)
+    if decided:
+        return lines + ["### Choosing the defaults\n", confirm.defaults_sentence(decided) + "\n"]
     return lines + (defaults_markdown(judged) if judged else [])

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ResultsError
-from ..stats import Estimate, estimate, paired
+from ..stats import Estimate, estimate, paired, welch
 from .outcomes import OUTCOMES, WINDOWS, outcome_value, run_series, window
 
 
@@ -73,20 +73,8 @@ def compare(a: dict[str, Path], b: dict[str, Path]) -> list[Difference]:
                                        p.effect, True))
             else:
                 rows.append(Difference(outcome.name, w, estimate(va), estimate(vb),
-                                       _unpaired(va, vb), _cohen(va, vb), False))
+                                       welch(va, vb), _cohen(va, vb), False))
     return rows
-
-
-def _unpaired(a: np.ndarray, b: np.ndarray) -> Estimate:
-    """Difference of means with a bootstrap interval resampling each set on its own."""
-    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
-    if not len(a) or not len(b):
-        return estimate([])
-    rng = np.random.default_rng(0)
-    draws = rng.choice(a, (10_000, len(a))).mean(1) - rng.choice(b, (10_000, len(b))).mean(1)
-    lo, hi = (np.percentile(draws, [2.5, 97.5]) if len(a) > 1 and len(b) > 1
-              else (math.nan, math.nan))
-    return Estimate(float(a.mean() - b.mean()), float(lo), float(hi), min(len(a), len(b)))
 
 
 def _cohen(a: np.ndarray, b: np.ndarray) -> float:

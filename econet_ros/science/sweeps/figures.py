@@ -47,7 +47,7 @@ def outcome_figure(spec: SweepSpec, late: dict[tuple[str, str, str], Estimate],
         ax.set_xticklabels(names, rotation=30, ha="right", fontsize=7)
         ax.set_title(labels[name], fontsize=9)
     axes.flat[0].legend(fontsize=7)
-    fig.suptitle(f"Sweep '{spec.name}': late-window outcomes, mean and 95% bootstrap CI over "
+    fig.suptitle(f"Sweep '{spec.name}': late-window outcomes, mean and 95% t interval over "
                  f"{len(spec.seeds)} seeds")
     fig.tight_layout()
     path = folder / "outcomes.png"
@@ -76,7 +76,7 @@ def comparison_figure(compared: list[dict], folder: Path) -> Path:
         ax.set_title(name, fontsize=8)
         ax.set_yticks(ys)
         ax.set_yticklabels([f"{r['a']} - {r['b']}" for r in mine], fontsize=6)
-    fig.suptitle("Paired comparisons (a - b), late window, 95% bootstrap CI over seeds",
+    fig.suptitle("Paired comparisons (a - b), late window, 95% t interval over seeds",
                  fontsize=9)
     fig.tight_layout()
     path = folder / "comparisons.png"
@@ -91,5 +91,44 @@ def gallery(runs: list[tuple[str, Path]], folder: Path) -> Path:
     path = folder / "gallery.png"
     fig.tight_layout()
     fig.savefig(path, dpi=70)
+    plt.close(fig)
+    return path
+
+
+def load_map_figure(cells: list[dict], folder: Path) -> Path:
+    """The map of H3: per cell the share of runs that hold (with its exact interval) and the
+    late top-20 fitness (mean over seeds) against the bit flips per copy, one line per network
+    size (four-layer solid, three-layer dashed); the paper's 2% is ringed."""
+    folder.mkdir(parents=True, exist_ok=True)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
+    sizes = list(dict.fromkeys((c["three_layer"], c["size"], c["weights"]) for c in cells))
+    shades = plt.cm.viridis(np.linspace(0, 0.9, len(sizes)))
+    for (three, size, weights), color in zip(sizes, shades):
+        mine = sorted((c for c in cells if c["size"] == size), key=lambda c: c["load"])
+        load = [c["load"] for c in mine]
+        held = np.array([[c["holding"].mean, c["holding"].lo, c["holding"].hi] for c in mine])
+        style = "--" if three else "-"
+        label = f"{'three' if three else 'four'}-layer {size.split('-', 1)[1]} ({weights} w)"
+        left.errorbar(load, held[:, 0], yerr=[held[:, 0] - held[:, 1], held[:, 2] - held[:, 0]],
+                      fmt="o" + style, color=color, capsize=2, ms=4, label=label)
+        right.plot(load, [np.nanmean(c["fitness"]) for c in mine], "o" + style, color=color,
+                   ms=4, label=label)
+        for ax, ys in ((left, held[:, 0]), (right, [np.nanmean(c["fitness"]) for c in mine])):
+            paper = [i for i, c in enumerate(mine) if c["cell"].endswith("-p2")
+                     or (size == "four-2-2-4" and c["cell"].endswith("L10.24"))]
+            ax.plot([load[i] for i in paper], [ys[i] for i in paper], "o", ms=11, mfc="none",
+                    color=color)
+    for ax, title in ((left, "share of runs that hold (<= 1 separation per reach), 95% exact "
+                       "CI"), (right, "late top-20 fitness, mean over seeds")):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("bit flips per copy (weights x 8 bits x flip rate)")
+        ax.set_title(title, fontsize=9)
+    left.set_ylim(-0.05, 1.05)
+    right.legend(fontsize=7)
+    fig.suptitle("Holding against mutational load (H3; ringed: the paper's 2% flip rate)",
+                 fontsize=10)
+    fig.tight_layout()
+    path = folder / "load_map.png"
+    fig.savefig(path, dpi=90)
     plt.close(fig)
     return path

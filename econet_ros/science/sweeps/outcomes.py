@@ -1,7 +1,7 @@
 """What a sweep measures of each run: the outcomes (a metrics.csv or behaviour.csv column, or a
 ratio of two) as a run's mean over an early window (the first 10% of generations) and a late
-one (the last 10%), and the tidy table of every run's outcomes that the sweep report, the
-decision rule and `econet compare` read."""
+one (the last 10%), its size and mutational load, whether it holds, and the tidy table of every
+run's outcomes that the sweep report, the decision rules and `econet compare` read."""
 from __future__ import annotations
 
 import math
@@ -10,9 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ...config import Config
 from ...errors import ResultsError
 from ...files import table_rows
 from ...runs import RunData
+from .. import holding
 from ..measures import BEHAVIOUR_COLUMNS
 from .spec import SweepSpec
 
@@ -75,21 +77,38 @@ def outcome_value(series: dict[str, np.ndarray], outcome: Outcome, span: slice) 
     return float(finite.mean()) if len(finite) else math.nan
 
 
+def bit_flips_per_copy(config: Config, weights: int) -> float:
+    """The mutational load of a copy: the expected number of bits a copy flips (weights x bits
+    x rate) under the bit-flip readings; NaN under the body text's weight steps, which flip no
+    bits."""
+    e = config.evolution
+    if e.mutation_mode == "weights" or config.evolution.condition == "random":
+        return math.nan
+    return weights * e.bits_per_weight * e.mutation_rate
+
+
 def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
-    """One row per (cell, condition, seed): the outcomes in each window (NaN for a missing
-    or unfinished run, which the row's `generations_done` shows)."""
+    """One row per (cell, condition, seed): the network's weights and the mutational load of a
+    copy, the outcomes in each window (NaN for a missing or unfinished run, which the row's
+    `generations_done` shows) and whether the run holds (holding.py)."""
     rows = []
     for run in sorted(spec.runs(), key=lambda r: (r.cell, r.condition, r.seed)):
         row = {"cell": run.cell, "condition": run.condition, "seed": run.seed}
         folder = run.folder(out)
-        series = run_series(folder) if (folder / "run.json").exists() else None
+        data = RunData(folder) if (folder / "run.json").exists() else None
+        series = run_series(folder) if data else None
         done = len(series["generation"]) if series else 0
         row["generations_done"] = done
+        weights = data.header["n_weights"] if data else math.nan
+        row["weights"] = weights
+        row["bit_flips_per_copy"] = bit_flips_per_copy(run.config, weights)
         complete = done == spec.generations
         for outcome in OUTCOMES:
             for name in WINDOWS:
                 value = outcome_value(series, outcome, window(spec.generations, name)) \
                     if complete else math.nan
                 row[f"{outcome.name}_{name}"] = value
+        row["holding_late"] = holding.kind(row["top_separations_per_success_late"]) \
+            if complete else ""
         rows.append(row)
     return rows

@@ -1,5 +1,5 @@
 """``econet sweep report``: a sweep folder's outcomes (outcomes.py) as one tidy table, its
-paired comparisons with bootstrap intervals and effect sizes, figures, and a Markdown summary.
+paired comparisons with t intervals and effect sizes, figures, and a Markdown summary.
 Comparisons pair runs by seed."""
 from __future__ import annotations
 
@@ -7,7 +7,9 @@ import csv
 from pathlib import Path
 
 from ...errors import ResultsError
-from ..stats import estimate, paired
+from .. import holding
+from ..stats import estimate, median, paired, share
+from . import confirm
 from .figures import comparison_figure, gallery, outcome_figure
 from .outcomes import OUTCOMES, WINDOWS, tidy_rows
 from .regime import regime_markdown
@@ -69,17 +71,44 @@ def build_sweep_report(out: Path) -> tuple[Path, list[str]]:
              if r.seed == spec.seeds[0] and (r.folder(out) / "run.json").exists()]
     if first:
         figures.append(gallery(first, out / "figures"))
+    figures += confirm.figures(spec, rows, out / "figures")
     summary = out / "summary.md"
     summary.write_text(summary_markdown(spec, rows, late, compared, notes, figures, out),
                        encoding="utf-8")
     return summary, notes
 
 
+def holding_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
+    """Per cell and condition: how many runs hold, brush or do not reach (holding.py), the
+    share that holds with its exact interval, and medians beside means of the late outcomes
+    that split into holding and brushing runs."""
+    lines = [f"## Holding or brushing, per run (a run holds with at most {holding.LIMIT:g} late "
+             "separation per successful trial)\n",
+             "| cell | condition | hold / brush / no reach | share holding [95% CI, "
+             "Clopper-Pearson] | late separations per successful trial: mean [t CI]; median "
+             "[CI] | late top-20 fitness: mean [t CI]; median [CI] |", "|---|---|---|---|---|---|"]
+    for cell in spec.cells:
+        for condition in cell.conditions:
+            kinds = [r["holding_late"] for r in rows if r["cell"] == cell.name
+                     and r["condition"] == condition and r["holding_late"]]
+            if not kinds:
+                continue
+            counts = " / ".join(str(kinds.count(k)) for k in
+                                (holding.HOLDS, holding.BRUSHES, holding.NO_REACH))
+            held = share([k == holding.HOLDS for k in kinds])
+            sep, fit = (values(rows, cell.name, condition, column, spec.seeds) for column in
+                        ("top_separations_per_success_late", "top_fitness_late"))
+            lines.append(f"| {cell.name} | {condition} | {counts} | {held.text(2)} | "
+                         f"{estimate(sep).text(1)}; {median(sep).text(1)} | "
+                         f"{estimate(fit).text(0)}; {median(fit).text(0)} |")
+    return lines + [""]
+
+
 def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out: Path) -> str:
     lines = [f"# Sweep '{spec.name}'\n", spec.description + "\n" if spec.description else "",
              f"{len(spec.cells)} cell(s), seeds {', '.join(map(str, spec.seeds))}, "
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
-             "by seed. Intervals: 95% percentile bootstrap over seeds; d_z = mean difference / "
+             "by seed. Intervals: 95% Student-t over seeds; d_z = mean difference / "
              "s.d. of the differences. Files: outcomes.csv (one row per run), comparisons.csv."
              "\n"]
     if notes:
@@ -109,6 +138,8 @@ def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out:
                          f"{row['ci_high']:.2f}] | {row['effect_size_dz']:.2f} | "
                          f"{row['a_above_b']} of {row['n_seeds']} |")
     lines.append("")
+    lines += holding_markdown(spec, rows)
+    lines += confirm.markdown(spec, rows)
     lines += regime_markdown(spec, rows)
     lines += [f"![{p.stem}]({p.relative_to(out)})\n" for p in figures]
     return "\n".join(lines) + "\n"

@@ -11,6 +11,8 @@ import pytest
 
 from graph_helpers import REPO, ros_session, spin_until
 
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
+
 NODES = ("world", "controller", "supervisor", "recorder", "viewer")
 
 

@@ -1,6 +1,5 @@
-"""The engine's two drivers (whole trials compiled, or one act() call per cycle) and the
-controllers' batching must not change a single bit of the results; the vectorised logistic
-must be the scalar formula."""
+"""The networks: batching weights per econet must not change a bit, the weight counts and refusals,
+and the vectorised logistic is the scalar formula."""
 import math
 
 import numba
@@ -10,48 +9,10 @@ import pytest
 from econet_ros import genome
 from econet_ros.config import Config
 from econet_ros.controllers import logistic
-from econet_ros.plugins import make_controller
 from econet_ros.elementary import EXP_NEAR_LIMIT
-from econet_ros.trials import TrialMeasures, run_trials
-from econet_ros.world import World, sample_setups
+from econet_ros.plugins import make_controller
 
 CONFIG = Config()
-
-
-class PerCycle:
-    """Wraps a controller so that the engine must call act() every cycle."""
-
-    def __init__(self, inner):
-        self.inner = inner
-
-    def act(self, obs):
-        return self.inner.act(obs)
-
-    def compiled(self, cycles):
-        return None
-
-
-@pytest.mark.parametrize("condition", ["normal", "three-layer", "random"])
-def test_compiled_and_per_cycle_drivers_agree_exactly(condition):
-    n_econets, trials, cycles = 6, 4, 60
-    n = n_econets * trials
-    rng = np.random.default_rng(4)
-    setup = sample_setups(rng, n, CONFIG.model)
-    runs = []
-    for wrap in (lambda c: c, PerCycle):
-        controller = make_controller(condition, n, CONFIG)
-        codes = genome.random_genomes(np.random.default_rng(9), n_econets, controller.n_params,
-                                      8)
-        controller.load(genome.decode(codes, 8, 10.0), noise_seed=17)
-        runs.append(run_trials(World(n, CONFIG.model), wrap(controller), setup, cycles,
-                               record=True))
-    (fast, fast_trace), (slow, slow_trace) = runs
-    for field in vars(fast):
-        np.testing.assert_array_equal(getattr(fast, field), getattr(slow, field))
-    for field in vars(fast_trace):
-        np.testing.assert_array_equal(getattr(fast_trace, field), getattr(slow_trace, field),
-                                      err_msg=field)
-    assert fast_trace.touch[1:].sum() == fast.fitness.sum()
 
 
 def test_weights_per_econet_equal_weights_repeated_per_environment():
@@ -82,15 +43,6 @@ def test_network_weight_count_and_refusals():
         net.load(np.zeros((3, net.n_params)))
     with pytest.raises(ValueError, match="unknown controller"):
         make_controller("five-layer", 4, CONFIG)
-
-
-def test_trial_measures_from_a_contact_history():
-    contact = np.array([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1], [1, 0, 1]], dtype=bool)
-    m = TrialMeasures.from_contact(contact)
-    np.testing.assert_array_equal(m.fitness, [3, 0, 3])
-    np.testing.assert_array_equal(m.success, [True, False, True])
-    np.testing.assert_array_equal(m.latency, [2, 5, 3])
-    np.testing.assert_array_equal(m.separations, [1, 0, 0])
 
 
 @numba.njit

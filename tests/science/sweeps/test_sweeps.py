@@ -21,7 +21,7 @@ from econet_ros.cli import main
 from econet_ros.science.study import run_with_behaviour
 from econet_ros.science.sweeps.spec import load_spec
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[3]
 
 TINY = '''
 name = "tiny"
@@ -184,7 +184,17 @@ KILL = TINY.replace("generations = 3", "generations = 25").replace(
     "seeds = [4, 5]", "seeds = [6]").split("[cells.narrow]")[0]
 
 
-def running_tasks() -> list[int]:
+def parent(pid: int) -> int:
+    """A process's parent (0 once gone): field 4 of /proc/PID/stat, after the command's ')'."""
+    try:
+        return int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, IndexError, ValueError):
+        return 0
+
+
+def running_tasks(driver: int) -> list[int]:
+    """The Ray workers running a sweep task that descend from this driver process: only the
+    test's own sweep (other sweeps on the machine are not this test's to kill)."""
     pids = []
     for entry in Path("/proc").iterdir():
         try:
@@ -192,7 +202,15 @@ def running_tasks() -> list[int]:
                 pids.append(int(entry.name))
         except OSError:
             pass
-    return pids
+    return [pid for pid in pids if descends(pid, driver)]
+
+
+def descends(pid: int, ancestor: int) -> bool:
+    while pid > 1:
+        pid = parent(pid)
+        if pid == ancestor:
+            return True
+    return False
 
 
 def test_a_worker_killed_mid_run_is_retried_and_the_results_do_not_change(tmp_path):
@@ -203,7 +221,7 @@ def test_a_worker_killed_mid_run_is_retried_and_the_results_do_not_change(tmp_pa
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     deadline, killed = time.monotonic() + 120, None
     while killed is None and time.monotonic() < deadline and sweep.poll() is None:
-        pids = running_tasks()
+        pids = running_tasks(sweep.pid)
         if pids:
             time.sleep(0.5)                                    # well into the run
             os.kill(pids[0], signal.SIGKILL)

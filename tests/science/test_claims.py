@@ -9,7 +9,6 @@ from econet_ros.science import claims as C
 from econet_ros.science.evidence import Evidence, first_passage
 from econet_ros.science.measures import ReachSummary
 from econet_ros.science.series import Windows
-from econet_ros.science.stats import bootstrap_ci, estimate, paired
 from econet_ros.science.study import ConditionData
 
 G, RUNS = 40, 10
@@ -29,19 +28,6 @@ def evidence(**conditions) -> Evidence:
 
 def noisy(base, scale, seed):
     return base + np.random.default_rng(seed).normal(0, scale, (RUNS, G))
-
-
-def test_bootstrap_interval_and_paired_comparison_by_hand():
-    assert bootstrap_ci([3.0, 3.0, 3.0]) == (3.0, 3.0)
-    lo, hi = bootstrap_ci(np.arange(10.0))
-    # mean 4.5, standard error 0.86 (bootstrap: population s.d.): about 4.5 -+ 1.7
-    assert 2.6 < lo < 3.1 and 5.9 < hi < 6.4
-    p = paired([5, 6, 7, np.nan], [1, 2, 8, 0])
-    assert p.n == 3 and p.above == 2 and p.below == 1
-    assert p.diff.mean == pytest.approx((4 + 4 - 1) / 3)
-    d = np.array([4.0, 4.0, -1.0])
-    assert p.effect == pytest.approx(d.mean() / d.std(ddof=1))
-    assert estimate([]).n == 0 and estimate([2.0]).text() == "2.00 (n=1)"
 
 
 @pytest.mark.parametrize("shift, expected", [(5.0, "replicates"), (-5.0, "does not")])

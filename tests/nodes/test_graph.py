@@ -29,6 +29,8 @@ from econet_ros.world import TrialSetup, World  # noqa: E402
 
 from graph_helpers import REPO, Processes, call, spin_until  # noqa: E402
 
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
+
 SMALL = {"population": 10, "parents": 2, "trials": 4, "cycles": 60}
 FILES = ("run.json", "metrics.csv", "genomes.npy", "fitness.npy", "best_genomes.npy")
 
@@ -103,7 +105,9 @@ def test_reset_service_replies_and_errors(graph, ros):
         (ResetTrials.Request(n_envs=2, cycles=5, body_deg=common.f64([0.0, 1.0, 2.0])),
          "body_deg has 3 values, expected 2"),
         (ResetTrials.Request(n_envs=1, cycles=5, shoulder_deg=common.f64([190.0])),
-         "shoulder angles must lie within 0-180"),
+         "shoulder angles must be between 0 and 180 degrees, got 190"),
+        (ResetTrials.Request(n_envs=1, cycles=5, body_deg=common.f64([1e300])),
+         "body angles must be between -360 and 360 degrees, got 1e+300"),
         (ResetTrials.Request(n_envs=1, cycles=5, elbow_deg=common.f64([np.nan])),
          "NaN"),
     ]
@@ -114,6 +118,7 @@ def test_reset_service_replies_and_errors(graph, ros):
         assert not reply.success
         assert text in reply.message
         assert reply.trial == before.trial            # refused: no new trial started
+        assert reply.n_envs == before.n_envs
     after = call(ros, client, ResetTrials.Request(n_envs=3, cycles=5, seed=4))
     assert after.success and after.trial == before.trial + 1 and after.n_envs == 3
 

@@ -16,6 +16,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from econet_ros import runs
@@ -459,11 +460,14 @@ def test_a_simulated_full_disk_mid_run_keeps_every_finished_generation(tmp_path,
     assert_same_run(out / "run-01", reference["tiny"])
 
 
-def test_a_simulated_full_disk_at_the_start_leaves_no_arrays(tmp_path, capsys, monkeypatch):
+def test_a_simulated_full_disk_at_the_start_leaves_no_arrays(tmp_path, capsys, monkeypatch,
+                                                             reference):
+    """The line says how much room the arrays need, in bytes for a small run (it said 0.0 MB)."""
     monkeypatch.setattr(os, "posix_fallocate", _no_space)
     out = tmp_path / "results"
     err = refused(capsys, main(["evolve", "--out", str(out), *TINY]), "disk full: cannot write")
-    assert "the run's arrays need" in err
+    size = sum(np.load(array, mmap_mode="r").nbytes for array in reference["tiny"].glob("*.npy"))
+    assert f"the run's arrays need {size:,} bytes" in err
     assert not list(out.rglob("*.npy"))
     assert runs.finished_generations(out / "run-01") == 0
 

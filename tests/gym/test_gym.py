@@ -183,7 +183,8 @@ def test_bad_actions_are_one_line_errors_that_change_nothing(action, message):
 @pytest.mark.parametrize("options, message", [
     ({"object_xy": (60.0, 0.0)}, "out of reach"),
     ({"object_xy": (1.0, 0.0)}, "out of reach"),
-    ({"shoulder": 200.0}, "within 0-180"),
+    ({"shoulder": 200.0}, "between 0 and 180"),
+    ({"body": 1e300}, "between -360 and 360"),
     ({"elbow": np.nan}, "NaN"),
     ({"object_xy": (1.0, 2.0, 3.0)}, "shape"),
     ({"colour": "red"}, "unknown reset option"),

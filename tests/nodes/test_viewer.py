@@ -13,6 +13,8 @@ from econet_ros.recording.messages import typestore
 
 from graph_helpers import ros_session, spin_until
 
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
+
 SUBPROTOCOL = "foxglove.sdk.v1"
 MESSAGE_DATA = 0x01       # server -> client binary opcode: subscription id, log time, payload
 

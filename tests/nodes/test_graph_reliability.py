@@ -6,10 +6,12 @@ result folder must equal the undisturbed in-process run's, byte for byte.
 
 A process killed or paused stays listed until its DDS lease runs out (Fast DDS: 20 s). The
 graph's nodes here announce a 3 s lease (a Fast DDS profile), so that a killed node costs
-seconds; the paused monitor keeps the default, so that the graph goes on sending to it."""
+seconds; the paused monitor keeps the default, so that the graph goes on sending to it, and so
+does the graph whose controller is killed for good, as a user's would (issue 22)."""
 import array
 import os
 import signal
+import time
 
 import numpy as np
 import pytest
@@ -19,6 +21,8 @@ from econet_ros.runs import run_condition
 from econet_ros.topics import MAX_ENVS
 
 from graph_helpers import call, ros_session, spin_until
+
+pytestmark = pytest.mark.ros       # every test here starts ROS nodes
 
 SMALL = {"population": 6, "parents": 2, "trials": 3, "cycles": 30}
 N_ENVS = SMALL["population"] * SMALL["trials"]
@@ -352,3 +356,38 @@ def test_killed_and_restarted_nodes_change_nothing(ros, lease_env, tmp_path):
     assert noticed >= 1             # the world's kill was noticed too
     assert_same_as_in_process(out, generations, tmp_path)
     assert_no_traceback(*logs)
+
+
+def test_a_killed_controller_is_noticed_within_the_stall_timeout(ros, tmp_path):
+    """The controller killed (SIGKILL) mid-trial and not restarted, everything at its defaults
+    (a 3 s stall timeout, the 20 s DDS lease): the supervisor says so within the stall timeout,
+    although the world sends the stalled cycle's sensors again every second (each repeat used
+    to restart the supervisor's stall clock: the line came when the lease ran out, 20 s)."""
+    rclpy, executor, procs = ros
+    from econet_ros.nodes import graph as common
+
+    ns, stall, cycles = "/rstall", 3.0, 300         # a trial long enough to kill it in
+    env = {k: v for k, v in os.environ.items() if k != "FASTDDS_DEFAULT_PROFILES_FILE"}
+    params = {**SMALL, "cycles": cycles, "generations": 100, "seed": 3, "out": str(tmp_path)}
+    (world, _), (controller, _) = start_graph(procs, ns, env).values()
+    sup, log = procs.start("supervisor", ns, *[f"{k}:={v}" for k, v in params.items()],
+                           env=env)
+    heard = []
+    probe(rclpy, executor, ns).create_subscription(
+        common.message_class("touch"), "touch", lambda m: heard.append(m.cycle),
+        common.reader_qos("touch"))
+    spin_until(executor, says(log, "generation 2/100"), timeout=120, what="the run to start")
+    heard.clear()
+    spin_until(executor, lambda: any(c > cycles // 3 for c in heard), what="a trial under way")
+    killed = time.time()
+    procs.kill(controller, signal.SIGKILL)
+    spin_until(executor, says(log, "testing the generation again"), timeout=40,
+               what="the supervisor to notice")
+    line = next(line for line in log.read_text().splitlines()
+                if "testing the generation again" in line)
+    stamp = float(line.split("] [")[1])             # the log's own time of the line
+    for proc in (sup, world):
+        procs.kill(proc)
+    assert f"no new cycle for {stall:g} s after cycle" in line, line
+    # a cycle takes milliseconds; the second covers the scheduling of a loaded machine
+    assert stamp - killed < stall + 1.0, f"{stamp - killed:.1f} s after the kill: {line}"

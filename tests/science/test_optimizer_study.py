@@ -4,7 +4,7 @@ import dataclasses
 import json
 
 import pytest
-from test_analysis_study import TINY, tiny_spec
+from test_study import TINY, tiny_spec
 
 from econet_ros.cli import main
 from econet_ros.science.study import SENSITIVITY, run_study
