@@ -76,14 +76,13 @@ def touch_gap(model: ModelConfig, state: State, object_xy) -> float:
 
 
 # -- vision ----------------------------------------------------------------------------------------
-def window_edges(model: ModelConfig, state: State, turn: float = 0.0) -> np.ndarray:
-    """(n_windows + 1, 2) unit vectors of the window edges, right to left: the field is centred
-    on the body axis, unit 0 at its right edge (docs 'Windows and units'). ``turn`` (degrees)
-    turns the windows alone, to ask what a hair either way would have seen."""
+def edge_angles(model: ModelConfig, state: State, turn: float = 0.0) -> np.ndarray:
+    """The n_windows + 1 window edges in degrees, right to left: the field is centred on the
+    body axis, unit 0 at its right edge (docs 'Windows and units'). ``turn`` turns the windows
+    alone, to ask what a hair either way would have seen."""
     n = model.visual_units * model.windows_per_unit
-    width = model.field_of_view_deg / n
     first = state.body - model.field_of_view_deg / 2 + turn
-    return np.array([unit(first + k * width) for k in range(n + 1)])
+    return first + model.field_of_view_deg / n * np.arange(n + 1)
 
 
 def inside(point, right, left) -> np.ndarray:
@@ -127,11 +126,11 @@ def nearest_in_windows(nearest_point, along_edges, edges) -> np.ndarray:
     return np.where(inside(nearest_point, right, left), np.linalg.norm(nearest_point), on_edges)
 
 
-def folded_hand_in_windows(model: ModelConfig, state: State, edges_deg) -> np.ndarray:
+def folded_hand_in_windows(model: ModelConfig, state: State, angles) -> np.ndarray:
     """docs 'A folded elbow': with q_e = 0 the tip is on the eye and the hand fills the closed
     quarter turn from the upper arm's direction to 90 degrees left of it, at distance 0."""
     start = upper_arm_direction(model, state)
-    right, left = edges_deg[:-1], edges_deg[1:]
+    right, left = angles[:-1], angles[1:]
     meets = ((right - start) % 360 <= 90 + 1e-9) | ((start - right) % 360 <= left - right + 1e-9)
     return np.where(meets, 0.0, np.inf)
 
@@ -140,17 +139,15 @@ def vision(model: ModelConfig, state: State, object_xy, turn: float = 0.0) -> np
     """The visual units: each averages its windows, a window holding 1 - d/visual_range for the
     nearest visible point of the hand or the object in it, else 0 (docs 'Window value', 'Hand
     and object in the same window')."""
-    edges = window_edges(model, state, turn)
+    angles = edge_angles(model, state, turn)
+    edges = np.array([unit(a) for a in angles])
     centre = np.asarray(object_xy, float)
     distance = float(np.linalg.norm(centre))
     nearest_of_disk = centre * max(1 - model.object_radius / distance, 0.0)
     seen_object = nearest_in_windows(nearest_of_disk,
                                      disk_along_rays(centre, model.object_radius, edges), edges)
     if state.elbow == 0:
-        n = len(edges) - 1
-        width = model.field_of_view_deg / n
-        edges_deg = state.body - model.field_of_view_deg / 2 + turn + width * np.arange(n + 1)
-        seen_hand = folded_hand_in_windows(model, state, edges_deg)
+        seen_hand = folded_hand_in_windows(model, state, angles)
     else:
         base, tip = hand(model, state)
         along = tip - base
