@@ -5,7 +5,7 @@ import hashlib as _hashlib
 import os as _os
 from pathlib import Path as _Path
 
-# One BLAS thread, unless set otherwise: the package's linear algebra is small (CMA-ES's 160 x 160
+# One BLAS thread, unless set otherwise: the package's linear algebra is small (CMA-ES's 64 x 64
 # covariance), and BLAS threads only contend with the compiled kernels' threads, which made
 # CMA-ES's update ten times slower on a busy two-core machine. This takes effect only when
 # econet_ros is imported before numpy (as by `econet` and `python -m econet_ros`).

@@ -27,7 +27,7 @@ def add_parser(commands) -> None:
     study.add_argument("--jobs", type=positive, default=max(1, min(os.cpu_count() or 1, 8)),
                        help="worker processes (default: the number of CPUs, %(default)s)")
     study.add_argument("--sensitivity", metavar="VARIANT", action="append",
-                       help="also run a sensitivity variant (hidden-2-2-4, hidden-8-8-16, "
+                       help="also run a sensitivity variant (hidden-4-4-8, hidden-8-8-16, "
                             "object-radius-4, or all); repeatable; may be added to an "
                             "existing study folder later")
     study.add_argument("--sensitivity-runs", type=positive, metavar="N",

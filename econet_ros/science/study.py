@@ -38,8 +38,8 @@ BEHAVIOUR_FILE = "behaviour.csv"
 
 # Built-in sensitivity variants: name -> settings changed from the study's base config.
 SENSITIVITY = {
-    "hidden-2-2-4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
-                     "network.intermodal_hidden": 4},
+    "hidden-4-4-8": {"network.visual_hidden": 4, "network.proprio_hidden": 4,
+                     "network.intermodal_hidden": 8},          # the a-priori hidden sizes
     "hidden-8-8-16": {"network.visual_hidden": 8, "network.proprio_hidden": 8,
                       "network.intermodal_hidden": 16},
     "object-radius-4": {"model.object_radius": 4.0},

@@ -19,9 +19,9 @@ def test_weights_per_econet_equal_weights_repeated_per_environment():
     n_econets, trials = 5, 3
     n = n_econets * trials
     obs_inputs = np.random.default_rng(1).random((n, 13))
-    weights = genome.decode(genome.random_genomes(np.random.default_rng(2), n_econets, 160, 8),
-                            8, 10.0)
     shared = make_controller("normal", n, CONFIG)
+    weights = genome.decode(genome.random_genomes(np.random.default_rng(2), n_econets,
+                                                  shared.n_params, 8), 8, 10.0)
     shared.load(weights)
     repeated = make_controller("normal", n, CONFIG)
     repeated.load(np.repeat(weights, trials, axis=0))

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from econet_ros.config import Config
+from econet_ros.plugins import make_controller
 from econet_ros.runs import run_condition
 from econet_ros.topics import MAX_ENVS
 
@@ -26,6 +27,7 @@ pytestmark = pytest.mark.ros       # every test here starts ROS nodes
 
 SMALL = {"population": 6, "parents": 2, "trials": 3, "cycles": 30}
 N_ENVS = SMALL["population"] * SMALL["trials"]
+WEIGHTS = make_controller("normal", 1, Config()).n_params     # the default network's
 FILES = ("run.json", "metrics.csv", "genomes.npy", "fitness.npy", "best_genomes.npy")
 SHORT_LEASE = """<?xml version="1.0" encoding="UTF-8" ?>
 <dds xmlns="http://www.eprosima.com"><profiles>
@@ -198,11 +200,11 @@ def test_bad_requests_get_error_replies_and_a_burst_gets_every_reply(ros, lease_
         assert not reply.success and \
             f"n_envs is {n}; a world holds at most {MAX_ENVS} environments" in reply.message
         reply = call(executor, weights, SetWeights.Request(
-            n_envs=n, weights_per_network=160, weights=common.f64(np.zeros((3, 160)))))
+            n_envs=n, weights_per_network=WEIGHTS, weights=common.f64(np.zeros((3, WEIGHTS)))))
         assert not reply.success and \
             f"n_envs must be between 1 and {MAX_ENVS}, got {n}" in reply.message
-    good = SetWeights.Request(n_envs=N_ENVS, weights_per_network=160,
-                              weights=common.f64(np.zeros((SMALL["population"], 160))))
+    good = SetWeights.Request(n_envs=N_ENVS, weights_per_network=WEIGHTS,
+                              weights=common.f64(np.zeros((SMALL["population"], WEIGHTS))))
     assert call(executor, weights, good).success       # both ends matched before the burst
     futures = [weights.call_async(good) for _ in range(300)]
     spin_until(executor, lambda: all(f.done() for f in futures), timeout=120,
@@ -260,8 +262,8 @@ def test_strangers_stop_the_generation_and_change_nothing(ros, lease_env, tmp_pa
 
     swap = common.client(stranger, "set_weights")
     reply = call(executor, swap, SetWeights.Request(
-        n_envs=N_ENVS, weights_per_network=160,
-        weights=common.f64(np.full((SMALL["population"], 160), 3.0))))
+        n_envs=N_ENVS, weights_per_network=WEIGHTS,
+        weights=common.f64(np.full((SMALL["population"], WEIGHTS), 3.0))))
     assert reply.success                # the controller cannot tell who calls it
     spin_until(executor, says(log, "2 clients of set_weights"),
                what="the supervisor to see the second client")

@@ -14,7 +14,7 @@ from econet_ros.science.study import SENSITIVITY, run_study
 def out(tmp_path_factory):
     """A study with one sensitivity variant (1 run); then the optimizers added and reported."""
     out = tmp_path_factory.mktemp("study")
-    spec = tiny_spec({"hidden-2-2-4": SENSITIVITY["hidden-2-2-4"]})
+    spec = tiny_spec({"hidden-4-4-8": SENSITIVITY["hidden-4-4-8"]})
     run_study(dataclasses.replace(spec, variant_runs=1), out, progress=False)
     assert main(["study", "--out", str(out), *TINY, "--optimizers"]) == 0
     return out
@@ -27,11 +27,11 @@ def test_optimizer_variants_run_the_normal_condition_as_often_as_the_base(out):
         runs = sorted((folder / "normal").iterdir())
         assert [p.name for p in runs] == ["run-01", "run-02"]
         assert all((run / "behaviour.csv").exists() for run in runs)
-    assert [p.name for p in (out / "sensitivity" / "hidden-2-2-4" / "normal").iterdir()] == \
+    assert [p.name for p in (out / "sensitivity" / "hidden-4-4-8" / "normal").iterdir()] == \
         ["run-01"]
     stored = json.loads((out / "study.json").read_text())
     assert stored["variant_runs"] == 1 and set(stored["variants"]) == {
-        "hidden-2-2-4", "optimizer-cmaes", "optimizer-es"}
+        "hidden-4-4-8", "optimizer-cmaes", "optimizer-es"}
 
 
 def test_report_has_the_optimizer_section(out):
@@ -45,4 +45,4 @@ def test_report_has_the_optimizer_section(out):
         assert f"| {constraint} |" in section
     assert "| GA (paper) | CMA-ES | ES |" in section and "CMA-ES - GA, paired by run" in section
     sensitivity = text[text.index("## Sensitivity"):text.index(title)]
-    assert "hidden-2-2-4" in sensitivity and "optimizer-cmaes" not in sensitivity
+    assert "hidden-4-4-8" in sensitivity and "optimizer-cmaes" not in sensitivity

@@ -29,9 +29,9 @@ def tiny_spec(variants=None):
 @pytest.fixture(scope="module")
 def tiny_study(tmp_path_factory):
     out = tmp_path_factory.mktemp("study")
-    spec = tiny_spec({"hidden-2-2-4": {"network.visual_hidden": 2,
-                                       "network.proprio_hidden": 2,
-                                       "network.intermodal_hidden": 4}})
+    spec = tiny_spec({"hidden-4-4-8": {"network.visual_hidden": 4,
+                                       "network.proprio_hidden": 4,
+                                       "network.intermodal_hidden": 8}})
     run_study(spec, out, jobs=1, progress=False)
     return out
 
@@ -48,7 +48,7 @@ def test_study_writes_every_condition_with_behaviour_rows(tiny_study):
             assert len(rows(folder / "metrics.csv")) == 4
             assert [int(r["generation"]) for r in rows(folder / "behaviour.csv")] == [0, 1, 2, 3]
     # a network-size variant re-runs only the four-layer condition
-    variant = tiny_study / "sensitivity" / "hidden-2-2-4"
+    variant = tiny_study / "sensitivity" / "hidden-4-4-8"
     assert (variant / "normal" / "run-02" / "behaviour.csv").exists()
     assert not (variant / "random").exists() and not (variant / "three-layer").exists()
 
