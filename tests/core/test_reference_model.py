@@ -6,9 +6,9 @@ checks those kernels against the paper and docs/assumptions.md.
 
 The two readings compute geometry differently (the reference in the workspace's frame with
 libm's trigonometry), so their states agree to about 1e-13 degrees a cycle. A network's
-feedback may amplify that smoothly ('drift': in a chaotic econet by about 1.45 a cycle; 24 of
+feedback may amplify that smoothly ('drift': in a chaotic econet by about 1.45 a cycle; 2 of
 5,640 trials, 15 times as many as below from other starts, ended more than 1e-6 degrees apart,
-none with other measures). Courses may jump apart only where such a rounding sits on a boundary of the model
+24 when the default four-layer net was 4/4/8, none with other measures). Courses may jump apart only where such a rounding sits on a boundary of the model
 (the hand at the object's edge; a move at a whole-degree step or a joint limit; a point on a
 window edge): each jump is found, explained by how near the reference stood to that boundary
 (within what the drift can move it), counted, and must be rare. In those 5,640 trials there
