@@ -27,7 +27,8 @@ and trials start at whole degrees, so all three angles stay whole.
 Observation space (``Observation``)
     vision   (n, 8) in [0, 1]: unit j averages one-degree windows 8j..8j+7, unit 0 at the right
              edge of the 64-degree field; a window holds 1 - d/50 for the nearest visible point
-             of the hand (last 5 units of the forearm) or the object in it, else 0. Taking the
+             of the hand (last 5 units of the forearm) or the object in it, else 0; windows
+             are closed (a point on an edge is in both windows beside it). Taking the
              nearest point makes nearer things occlude farther ones. A fully folded elbow puts
              the hand's tip on the eye; vision then takes the limit of a slightly bent elbow (the
              hand covers the quarter turn left of the upper arm at distance 0).
@@ -183,6 +184,8 @@ class Geometry(NamedTuple):
     body_range: float      # the body axis stays within +-this of its trial start (inf: free)
     angle_steps: int       # CONTINUOUS, ROUND or TRUNCATE: how each cycle's moves are stepped
     cancel_at_limit: bool  # a joint move past a limit is not made (else it stops at the limit)
+    half_fov_deg: float    # half_fov and window in degrees, to find the hand's tip exactly on
+    window_deg: float      # a window edge
 
     @classmethod
     def of(cls, model: ModelConfig) -> "Geometry":
@@ -195,7 +198,8 @@ class Geometry(NamedTuple):
                    math.radians(model.field_of_view_deg) / 2,
                    math.radians(model.field_of_view_deg / n_windows), model.windows_per_unit,
                    model.visual_units, tip_base, body_range,
-                   ANGLE_STEPS.index(model.angle_steps), model.joint_limit == "cancel")
+                   ANGLE_STEPS.index(model.angle_steps), model.joint_limit == "cancel",
+                   model.field_of_view_deg / 2, model.field_of_view_deg / n_windows)
 
     def window_edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Unit vectors (x, y) of the window edges in the eye's frame, right to left."""
@@ -504,6 +508,15 @@ def _window_span(a_lo, a_hi, geo, n_windows):
 
 
 @numba.njit(cache=True, inline="always")
+def _edge_at(angle, geo, n_windows):
+    """The window edge exactly at ``angle`` degrees (eye frame), or -1 if none is."""
+    k = (angle + geo.half_fov_deg) / geo.window_deg
+    if k == math.floor(k) and 0.0 <= k <= n_windows:
+        return int(k)
+    return -1
+
+
+@numba.njit(cache=True, inline="always")
 def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
     """Write one environment's network input [vision, proprioception, touch] into ``senses``
     and return whether the object is fixated (the nearest thing in at least one window)."""
@@ -550,6 +563,17 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
                 h_first, h_last = 0, n_windows - 1
         else:
             h_first, h_last = _window_span(a_lo, a_hi, geo, n_windows)
+    # Windows are closed: a point on the edge between two is in both. Whole-degree angles put
+    # the tip exactly on an edge (and, with a straight elbow, the whole hand along it), where
+    # the rounding of coordinates would pick one window; the tip's direction in degrees is
+    # exact, so both windows beside that edge get the tip (a straight hand: its base) outright.
+    tip_on_eye = qx == 0.0 and qy == 0.0
+    tip_edge = -1 if tip_on_eye else _edge_at(tip_angle, geo, n_windows)
+    tip_edge_distance = math.sqrt(px * px + py * py) if elbow == 180.0 else \
+        math.sqrt(qx * qx + qy * qy)
+    if tip_edge >= 0:
+        h_first = min(h_first, max(tip_edge - 1, 0))
+        h_last = max(h_last, min(tip_edge, n_windows - 1))
 
     for u in range(n_units):
         senses[u] = 0.0
@@ -560,7 +584,6 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
         spans = ((min(o_first, h_first), max(o_last, h_last)), (0, -1))
     else:
         spans = ((o_first, o_last), (h_first, h_last))
-    tip_on_eye = qx == 0.0 and qy == 0.0
     dd = dx * dx + dy * dy
     t_foot = -(px * dx + py * dy) / dd if dd > 0.0 else 0.0
     right = (0.0, 0.0, 0.0)
@@ -580,6 +603,8 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
                 left = _edge_crossing(u1x, u1y, px, py, dx, dy)
                 near_hand = _segment_in_wedge(right, left, t_foot, px, py, dx, dy)
                 right, right_edge = left, w + 1
+                if tip_edge - 1 <= w <= tip_edge:
+                    near_hand = min(near_hand, tip_edge_distance)
             nearest = min(near_obj, near_hand)
             if nearest < math.inf:
                 senses[w // per_unit] += max(1.0 - nearest / geo.visual_range, 0.0) / per_unit

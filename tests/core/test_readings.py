@@ -191,6 +191,34 @@ def test_whole_degree_trials_start_and_stay_on_whole_degrees(steps):
         assert np.all(angles == np.round(angles))
 
 
+def vision_at(shoulder, elbow, **model):
+    world = world_at(shoulder, elbow, **model)
+    world.object_xy[:] = (-40.0, 0.0)                         # behind the eye
+    world.refresh()
+    return world.observe().vision[0]
+
+
+def test_a_tip_exactly_on_a_window_edge_is_seen_by_both_windows():
+    # Shoulder 180, elbow 60: the upper arm points 90 deg right, the tip lies 25 units out at
+    # -30 deg, exactly on the edge of windows 1 and 2 (whole-degree angles make this common),
+    # and the hand runs from there to the right. Windows are closed, so window 2 sees the tip:
+    # as a tip a hair inside window 2 is seen, and 1 - 25/50 = 0.5 more than one a hair outside.
+    tie = vision_at(180, 60)
+    inside = vision_at(180 - 1e-9, 60)                # tip at -30 + 1e-9 degrees
+    outside = vision_at(180, 60 + 2e-9)               # tip at -30 - 1e-9 degrees
+    np.testing.assert_allclose(tie, inside, atol=1e-6)
+    assert tie[0] - outside[0] == pytest.approx(0.5 / 8, abs=1e-6)
+    np.testing.assert_array_equal(tie[1:], 0.0)
+
+
+def test_a_straight_hand_along_a_window_edge_is_seen_by_both_windows():
+    # Shoulder 100, elbow 180: the straight arm points along -10 deg, the edge of windows 21 and
+    # 22 (both in unit 2); each sees the hand's base 45 units out: 2 x (1 - 45/50) / 8.
+    expected = np.zeros(8)
+    expected[2] = 2 * (1 - 45 / 50) / 8
+    np.testing.assert_allclose(vision_at(100, 180), expected, atol=1e-12)
+
+
 def test_whole_degree_moves_refuse_trial_starts_between_degrees():
     model = ModelConfig(angle_steps="round")
     setup = TrialSetup(np.array([[30.0, 0.0]]), np.array([10.0]), np.array([90.5]),
