@@ -161,13 +161,19 @@ def _cell_share(runs: list[dict], cell: str) -> np.ndarray:
     return np.array([r["holds"] for r in runs if r["cell"] == cell])
 
 
+def h3_terms(runs: list[dict]) -> dict[str, Estimate]:
+    """The fits H3a-H3c read: over the four-layer cells, the log2 load and log2 weights
+    coefficients; over all cells at the grid loads, the three-layer one."""
+    four = _fit([r for r in runs if not r["three_layer"]], architecture=False)
+    both = _fit([r for r in runs if r["grid"]], architecture=True)
+    return {"load": four.terms["log2 load"], "size": four.terms["log2 weights"],
+            "three-layer": both.terms["three-layer"]}
+
+
 def h3_rows(runs: list[dict]) -> list[Row]:
     """H3a-H3d on the map's runs (map_runs)."""
-    four = [r for r in runs if not r["three_layer"]]
-    fit = _fit(four, architecture=False)
-    both = _fit([r for r in runs if r["grid"]], architecture=True)
-    load, size, arch = fit.terms["log2 load"], fit.terms["log2 weights"], \
-        both.terms["three-layer"]
+    terms = h3_terms(runs)
+    load, size, arch = terms["load"], terms["size"], terms["three-layer"]
     margin = (-SIZE_MARGIN, SIZE_MARGIN)
     equal_low = share_difference(_cell_share(runs, "four-4-4-8-L10.24"),
                                  _cell_share(runs, "four-2-2-4-L10.24"))
@@ -175,11 +181,11 @@ def h3_rows(runs: list[dict]) -> list[Row]:
                                   _cell_share(runs, "four-4-4-8-p2"))
     stops = holding.share(_cell_share(runs, "four-2-2-4-p5"))
     criteria = [
-        row("H3a", below(f"log2 load coefficient ({fit.n} four-layer runs)", load)),
+        row("H3a", below(f"log2 load coefficient ({load.n} four-layer runs)", load)),
         Row("H3b", f"log2 weights coefficient at equal load {size.text(2)}, {size.method}",
             _equivalent(size, *margin)),
         Row("H3c", f"three-layer coefficient at equal load and size {arch.text(2)}, "
-            f"{arch.method} ({both.n} runs at the grid loads)", _equivalent(arch, *margin)),
+            f"{arch.method} ({arch.n} runs at the grid loads)", _equivalent(arch, *margin)),
         Row("H3d-1", f"4/4/8 at 0.8% - 2/2/4 at 2% (L = 10.24), holding share "
             f"{equal_low.text(2)}, {equal_low.method}", _no_difference(equal_low)),
         Row("H3d-2", f"2/2/4 at 5% - 4/4/8 at 2% (L = 25.6), holding share "
@@ -287,25 +293,50 @@ def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict],
     h2_f1 = figure_3(confirm_spec, confirm_rows, T4, "H2", full=False)[0].verdict
     lines += ["", f"H1 {h1}; H2-F1 {h2_f1}. {_size_sentence(h1, h2_f1)}".rstrip()]
     if map_spec is not None:
-        found = h3_rows(map_runs(map_spec, map_rows))
+        runs = map_runs(map_spec, map_rows)
+        found = h3_rows(runs)
         lines += ["", "What decides whether runs hold (H3, the map: four-layer 2/2/2-4/4/8 and "
                   "three-layer 4 and 8 hidden units at five mutational loads, 10 seeds a cell):",
-                  "", *table(found), "", _load_sentence({r.key: r.verdict for r in found})]
+                  "", *table(found), "",
+                  _load_sentence({r.key: r.verdict for r in found}, h3_terms(runs)),
+                  _mechanism_sentence({r.key: r.verdict for r in found})]
         if figure:
             lines += ["", f"![Holding against mutational load]({figure})"]
     return lines + [""]
 
 
-def _load_sentence(verdicts: dict[str, str]) -> str:
-    """The map's answer in words, from H3a-H3c's verdicts."""
+def _load_sentence(verdicts: dict[str, str], terms: dict[str, Estimate]) -> str:
+    """The map's answer in words, from H3a-H3c's verdicts and their coefficients' signs."""
+    def odds(term: str) -> str:
+        e = terms[term]
+        return f"odds x{math.exp(e.mean):.2f} [{math.exp(e.lo):.2f}, {math.exp(e.hi):.2f}]"
     load = {REPLICATES: "falls with the bit flips per copy", CONTRADICTED: "rises with the bit "
             "flips per copy"}.get(verdicts["H3a"], "shows no clear trend with the bit flips "
                                                   "per copy")
-    matters = {REPLICATES: "does not matter", CONTRADICTED: "matters",
-               INCONCLUSIVE: "may or may not matter (its interval allows both)"}
-    return (f"How often runs hold {load} (H3a {verdicts['H3a']}); at equal load the network's "
-            f"size {matters[verdicts['H3b']]} (H3b {verdicts['H3b']}), and three layers "
-            f"against four {matters[verdicts['H3c']]} (H3c {verdicts['H3c']}).")
+    size = {REPLICATES: "does not matter", CONTRADICTED:
+            f"{'larger' if terms['size'].mean < 0 else 'smaller'} networks hold less often"
+            }.get(verdicts["H3b"], "size may or may not matter (its interval allows both)")
+    layers = {REPLICATES: "three layers against four do not matter", CONTRADICTED:
+              f"{'three' if terms['three-layer'].mean < 0 else 'four'}-layer networks hold "
+              "less often than the other kind of the same size"}.get(
+        verdicts["H3c"], "three against four layers may or may not matter")
+    return (f"How often runs hold {load} (H3a {verdicts['H3a']}, {odds('load')} per doubling); "
+            f"at equal load {size} (H3b {verdicts['H3b']}, {odds('size')} per doubling of the "
+            f"weights), and at equal load and size {layers} (H3c {verdicts['H3c']}, "
+            f"{odds('three-layer')}).")
+
+
+def _mechanism_sentence(verdicts: dict[str, str]) -> str:
+    """What the map says of the explanation the pre-registration put to the test."""
+    if verdicts["H3a"] == REPLICATES and verdicts["H3b"] != CONTRADICTED:
+        return ("The explanation found by looking at sweep A holds: runs hold as the mutational "
+                "load of a copy allows, whatever the network.")
+    if verdicts["H3b"] == CONTRADICTED:
+        return ("The explanation found by looking at sweep A, the mutational load of a copy, "
+                "does not survive its test: at equal load the network's size decides whether "
+                "its runs hold, so what the four-layer 2/2/4 net has over the paper's "
+                "three-layer 8 is, above all, that it is small.")
+    return "The map cannot tell whether load or size decides holding."
 
 
 RULES = {"confirm": confirmatory, "load-map": load_map, "readings": readings}

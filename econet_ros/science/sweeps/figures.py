@@ -90,7 +90,7 @@ def load_map_figure(cells: list[dict], folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
     sizes = list(dict.fromkeys((c["three_layer"], c["size"], c["weights"]) for c in cells))
-    shades = plt.cm.viridis(np.linspace(0, 0.9, len(sizes)))
+    shades = [plt.cm.tab10(i) for i in range(len(sizes))]
     for (three, size, weights), color in zip(sizes, shades):
         mine = sorted((c for c in cells if c["size"] == size), key=lambda c: c["load"])
         load = [c["load"] for c in mine]
