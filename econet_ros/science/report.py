@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import gzip
 import io
 import os
@@ -29,7 +30,7 @@ from .sweeps import confirm
 from .sweeps.outcomes import tidy_rows
 from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
 from .sweeps.report import build_sweep_report, holding_markdown
-from .sweeps.spec import load_sweep
+from .sweeps.spec import SweepSpec, load_sweep
 from .verdicts import VERDICTS
 
 
@@ -53,6 +54,12 @@ class Analysis:
     @property
     def windows(self) -> Windows:
         return Windows(self.spec.config.evolution.generations)
+
+    @functools.cached_property
+    def sweep_tables(self) -> list[tuple[Path, SweepSpec, list[dict]]]:
+        """Each summarised sweep's folder, spec and tidy rows, read once."""
+        return [(folder, spec, tidy_rows(spec, folder)) for folder in self.sweeps
+                for spec in [load_sweep(folder)]]
 
 
 def report_paths(out: Path, report: Path | None = None, figures: Path | None = None
@@ -151,8 +158,8 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 
 def markdown(analysis: Analysis) -> str:
-    sections = (_title, _settings, _completeness, _regime, _holding, _claims, _windows,
-                _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
+    sections = (_title, _settings, _completeness, _regime, _holding, _architecture, _claims,
+                _windows, _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
                 _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
@@ -523,25 +530,36 @@ def _sweeps(analysis: Analysis) -> list[str]:
              "The decision rules (docs/analysis.md, each committed before the sweeps it judges "
              "ran) applied to each sweep; every sweep's full tables and figures are in its own "
              "summary.\n"]
-    judged, ruled = [], {}
-    for folder in analysis.sweeps:
-        spec = load_sweep(folder)
+    judged = []
+    for _, spec, rows in analysis.sweep_tables:
         summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
                                   analysis.folder)
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
-        rows = tidy_rows(spec, folder)
         lines += [line.replace("## ", "#### ", 1) for line in
                   holding_markdown(spec, rows) + confirm.markdown(spec, rows)
                   + regime_markdown(spec, rows)]
-        if spec.name in confirm.RULES:
-            ruled[spec.name] = spec, rows
-        else:
+        if spec.name not in confirm.RULES:
             judged += verdicts(spec, rows)
+    ruled = _ruled(analysis)
     if "confirm" not in ruled:
         return lines + (defaults_markdown(judged) if judged else [])
-    figure = os.path.relpath(analysis.folder / "sweeps" / "load-map" / "figures" /
-                             "load_map.png", analysis.folder) if "load-map" in ruled else ""
-    lines += confirm.architecture(*ruled["confirm"], *ruled.get("load-map", ()), figure=figure)
     return lines + ["### Choosing the defaults\n",
                     confirm.defaults_sentence(confirm.decide(*ruled["confirm"])) + "\n"]
+
+
+def _ruled(analysis: Analysis) -> dict[str, tuple]:
+    """The sweeps the pre-registered rule names, by name: (spec, tidy rows)."""
+    return {spec.name: (spec, rows) for _, spec, rows in analysis.sweep_tables
+            if spec.name in confirm.RULES}
+
+
+def _architecture(analysis: Analysis) -> list[str]:
+    """The paper's four- against three-layer comparison and its confound, when the
+    confirmatory sweep is given (econet analyze --sweep)."""
+    ruled = _ruled(analysis)
+    if "confirm" not in ruled:
+        return []
+    figure = os.path.relpath(analysis.folder / "sweeps" / "load-map" / "figures" /
+                             "load_map.png", analysis.folder) if "load-map" in ruled else ""
+    return confirm.architecture(*ruled["confirm"], *ruled.get("load-map", ()), figure=figure)

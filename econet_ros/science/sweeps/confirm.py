@@ -298,7 +298,7 @@ def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict],
         lines += ["", "What decides whether runs hold (H3, the map: four-layer 2/2/2-4/4/8 and "
                   "three-layer 4 and 8 hidden units at five mutational loads, 10 seeds a cell):",
                   "", *table(found), "",
-                  _load_sentence({r.key: r.verdict for r in found}, h3_terms(runs)),
+                  _load_sentence({r.key: r.verdict for r in found}, h3_terms(runs)), "",
                   _mechanism_sentence({r.key: r.verdict for r in found})]
         if figure:
             lines += ["", f"![Holding against mutational load]({figure})"]
