@@ -13,29 +13,36 @@ line on stderr and exit status 2.
 """
 from __future__ import annotations
 
+import importlib
 import sys
 
 from ..errors import EconetError
-from . import bag, compare, evaluate, evolve, study, sweep
 from .options import Parser
 
-# each module's add_parser registers its commands
-COMMANDS = (evolve, study, sweep, compare, evaluate, bag)
+# The module whose add_parser registers each command (study.py registers analyze too), in the
+# order --help lists them.
+MODULES = ("evolve", "study", "sweep", "compare", "evaluate", "bag")
+MODULE_OF = {"analyze": "study", **{name: name for name in MODULES}}
 
 
-def build_parser() -> Parser:
+def build_parser(modules: tuple[str, ...] = MODULES) -> Parser:
+    """The parser of the given command modules' commands (all by default). A module is
+    imported only here, so a named command loads only its own: `econet evolve` does not pay
+    for the analysis stack (scipy, matplotlib: about 3 s of imports)."""
     parser = Parser(prog="econet", description=(
         "The econet model of infant reaching (Schlesinger, Parisi & Langer, 2000): evolve "
         "populations of reaching networks and analyse them."))
-    commands = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for module in COMMANDS:
-        module.add_parser(commands)
+    subparsers = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    for module in modules:
+        importlib.import_module(f"{__package__}.{module}").add_parser(subparsers)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    named = MODULE_OF.get(argv[0]) if argv else None
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser((named,) if named else MODULES).parse_args(argv)
         return args.handler(args)
     except EconetError as error:
         print(f"econet: error: {error}", file=sys.stderr)

@@ -49,3 +49,20 @@ def test_options_override_the_config_file_only_when_given(tmp_path, capsys):
     config = RunData(tmp_path / "r" / "run-01").config
     assert (config.evolution.population, config.evolution.cycles) == (8, 6)
     assert config.model.object_radius == 3.0
+
+
+def test_a_named_command_loads_only_its_own_module(tmp_path):
+    """`econet evolve` must not pay for the analysis stack's imports (about 3 s); --help of all
+    commands still lists every one."""
+    code = ("import sys\nfrom econet_ros.cli import main\n"
+            f"assert main(['evolve', '--out', {str(tmp_path)!r}, '--quiet', '--runs', '1', "
+            "'--generations', '1', '--population', '10', '--parents', '2', '--trials', '2', "
+            "'--cycles', '5']) == 0\n"
+            "print(sorted(m for m in ('scipy.stats', 'matplotlib', 'econet_ros.science') "
+            "if m in sys.modules))\n")
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            check=True).stdout.strip().splitlines()[-1]
+    assert loaded == "[]"
+    listing = subprocess.run([sys.executable, "-m", "econet_ros", "--help"], capture_output=True,
+                             text=True, check=True).stdout
+    assert "{evolve,study,analyze,sweep,compare,evaluate,bag}" in listing

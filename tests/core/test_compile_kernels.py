@@ -1,0 +1,52 @@
+"""scripts/compile_kernels.py, which scripts/setup runs so that no user pays for compiling, must
+compile every kernel signature that real commands use: a study (evolution under every condition,
+behaviour rows, the lesion, the optimizer comparison, the analysis), `econet evaluate` (recording a bag)
+with every controller, and the Gymnasium env. Each side runs in its own process and reports the signatures its kernels hold,
+which numba fills whether it compiles or loads from the cache (warm after scripts/setup)."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+
+
+ROOT = Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "scripts" / "compile_kernels.py"
+
+REAL_COMMANDS = """
+import json, sys
+from econet_ros.cli.main import main
+out = sys.argv[1]
+tiny = ["--population", "10", "--parents", "2", "--trials", "2", "--cycles", "5",
+        "--generations", "3"]
+assert main(["study", "--out", out + "/study", "--runs", "1", "--jobs", "1", "--quiet",
+             "--optimizers", *tiny]) == 0
+for controller in ("normal", "three-layer", "random", "reacher"):
+    assert main(["evaluate", "--controller", controller, "--trials", "3", "--cycles", "5",
+                 "--record", out + "/bag-" + controller]) == 0
+import gymnasium, econet_ros.gym
+env = gymnasium.make("econet_ros/Reach-v0")
+env.reset(seed=0)
+env.step(env.action_space.sample())
+sys.path.insert(0, sys.argv[2])
+from compile_kernels import compiled_signatures
+print(json.dumps(compiled_signatures()))
+"""
+
+
+def signatures_of(args: list[str]) -> dict:
+    result = subprocess.run([sys.executable, *args], capture_output=True, text=True, check=True,
+                            cwd=ROOT)
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+def test_real_commands_compile_nothing_the_warm_up_leaves_out(tmp_path):
+    warm_file = tmp_path / "warm.json"
+    subprocess.run([sys.executable, str(SCRIPT), "--signatures", str(warm_file)], check=True,
+                   capture_output=True, cwd=ROOT)
+    warm = json.loads(warm_file.read_text())
+    used = signatures_of(["-c", REAL_COMMANDS, str(tmp_path), str(SCRIPT.parent)])
+    assert used, "no kernel signatures seen"
+    missing = {name: sorted(set(sigs) - set(warm.get(name, ()))) for name, sigs in used.items()}
+    missing = {name: sigs for name, sigs in missing.items() if sigs}
+    assert not missing, f"compiled by real commands but not by scripts/compile_kernels.py: {missing}"
