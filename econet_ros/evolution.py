@@ -20,7 +20,7 @@ from . import genome
 from .config import Config
 from .controllers import Controller
 from .plugins import make_controller
-from .trials import TrialMeasures, Trace, run_trials
+from .trials import BehaviourRecord, Record, TrialMeasures, Trace, run_trials
 from .world import TrialSetup, World, sample_setups
 
 # Purposes of the random streams of one generation; SEARCH is the one stream of a whole run that
@@ -74,7 +74,7 @@ class GenerationResult:
     genomes: np.ndarray           # (population, n_weights) codes that were tested
     measures: TrialMeasures       # each field (population, trials)
     parents: np.ndarray           # indices of the selected econets, best first
-    trace: Trace | None           # per-cycle record, when asked for
+    trace: Trace | BehaviourRecord | None   # per-cycle record, when asked for
 
     @property
     def fitness(self) -> np.ndarray:
@@ -101,8 +101,9 @@ class Evaluator:
         return generation_setups(self.config, seed, run, generation)
 
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
-                        record: bool = False) -> GenerationResult:
-        """Test one generation exactly as the evolutionary run does (same trials and noise)."""
+                        record: Record = False) -> GenerationResult:
+        """Test one generation exactly as the evolutionary run does (same trials and noise);
+        ``record`` as in trials.run_trials."""
         weights = genome_weights(self.config, genomes)
         self.controller.load(weights, noise_seed(seed, run, generation))  # one per econet
         measures, trace = run_trials(self.world, self.controller,

@@ -36,6 +36,7 @@ from .evolution import Evaluator, GenerationResult
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
                     start_table, stored_whole_number, table_rows, write_atomically, writing)
 from .optimizers import make_optimizer
+from .trials import Record
 
 FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
@@ -264,7 +265,7 @@ OnGeneration = Callable[[GenerationResult, np.ndarray], None]
 
 def evolve_into(folder: Path, config: Config, seed: int, run: int,
                 evaluator: Evaluator | None = None, on_generation: OnGeneration | None = None,
-                record: bool = False, on_open: Callable[[int], None] | None = None) -> int:
+                record: Record = False, on_open: Callable[[int], None] | None = None) -> int:
     """Evolve one run into ``folder``, resuming from its last finished generation.
 
     Each generation is tested by ``evaluator`` (default: in process), the next one bred by the
@@ -337,10 +338,11 @@ def summarize(out: Path, runs: int) -> str:
     return "\n".join(lines)
 
 
-def replay(run_dir: Path, generation: int, record: bool = True,
+def replay(run_dir: Path, generation: int, record: Record = True,
            evaluator: Evaluator | None = None) -> GenerationResult:
     """Re-test a stored generation with its original trials and noise; with record=True the
-    result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...)."""
+    result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...), with
+    record="behaviour" only the BehaviourRecord of the study's behaviour rows."""
     data = RunData(run_dir)
     evaluator = evaluator or Evaluator(data.config)
     return evaluator.test_generation(data.genomes(generation), data.seed, data.run, generation,

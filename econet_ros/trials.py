@@ -5,7 +5,9 @@ earns a point for every cycle that ends in contact with the object (paper: fitne
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numba
 import numpy as np
@@ -67,37 +69,98 @@ class Trace:
 _PER_CYCLE = ("body", "shoulder", "elbow", "hand", "hand_object_distance", "touch", "fixated",
               "motor")
 
+MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
+MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
+
+# What the behaviour record keeps of each cycle (the values behaviour measures average, so they
+# can be pooled in the order a Trace pools them) and tallies per environment over its
+# pre-contact cycles (counts are exact in any order). science/measures.py defines each one.
+CYCLE_VALUES = ("shoulder", "elbow", "shoulder_flexor", "shoulder_extensor", "elbow_flexor",
+                "elbow_extensor", "hand_speed", "eye_speed")
+PRE_CONTACT_COUNTS = ("cycles", "shoulder_flexion", "elbow_flexion", "body_moving",
+                      "shoulder_moving", "elbow_moving", "shoulder_cocontraction",
+                      "shoulder_corelaxation", "elbow_cocontraction", "elbow_corelaxation",
+                      "fixated", "approach_fixated", "approach_unfixated", "away_fixated",
+                      "away_unfixated")
+_SHOULDER, _ELBOW, _MOTOR, _HAND_SPEED, _EYE_SPEED = (
+    CYCLE_VALUES.index(name) for name in ("shoulder", "elbow", "shoulder_flexor", "hand_speed",
+                                          "eye_speed"))
+(_CYCLES, _FLEXION, _MOVING, _BOTH, _FIXATED, _APPROACH, _AWAY) = (
+    PRE_CONTACT_COUNTS.index(name) for name in (
+        "cycles", "shoulder_flexion", "body_moving", "shoulder_cocontraction", "fixated",
+        "approach_fixated", "away_fixated"))
+
+
+@dataclass
+class BehaviourRecord:
+    """What the per-generation behaviour measures need of a batch of trials, gathered inside the
+    compiled loop: a Trace would cost a study about as much again as the trials themselves.
+    Per-cycle arrays have one row per cycle (C, n)."""
+
+    pre_contact: np.ndarray     # (C, n) bool: no contact in the trial up to the cycle's start
+    fixated: np.ndarray         # (C, n) bool: object fixated at the cycle's start
+    values: np.ndarray          # (len(CYCLE_VALUES), C, n): angles at the start, muscle outputs,
+                                #   hand and eye speed (as in measures.hand_speed, eye_speed)
+    counts: np.ndarray          # (len(PRE_CONTACT_COUNTS), n) pre-contact cycles with each event
+    angle_high: np.ndarray      # (3, n) highest body, shoulder, elbow angle and
+    angle_low: np.ndarray       # (3, n) lowest, over the states pre-contact cycles touch
+
+    @classmethod
+    def empty(cls, cycles: int, n: int) -> "BehaviourRecord":
+        return cls(np.zeros((cycles, n), dtype=bool), np.zeros((cycles, n), dtype=bool),
+                   np.zeros((len(CYCLE_VALUES), cycles, n)),
+                   np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
+                   np.full((3, n), -np.inf), np.full((3, n), np.inf))
+
+    def value(self, name: str) -> np.ndarray:
+        return self.values[CYCLE_VALUES.index(name)]
+
+    def count(self, name: str) -> np.ndarray:
+        return self.counts[PRE_CONTACT_COUNTS.index(name)]
+
+
+Record = Literal[False, True, "behaviour"]
+
 
 def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: int,
-               record: bool = False) -> tuple[TrialMeasures, Trace | None]:
-    """Run one trial in every environment of ``world``; optionally record the full trace.
+               record: Record = False) -> tuple[TrialMeasures, Trace | BehaviourRecord | None]:
+    """Run one trial in every environment of ``world``; optionally record the full trace
+    (record=True) or only what the behaviour measures need (record="behaviour").
 
     Controllers that offer a compiled policy (the paper's networks and random movement) run
     whole trials inside one compiled loop; any other controller is called once per cycle. Both
-    drivers call the same per-environment functions, so they give identical results."""
+    drivers call the same per-environment functions, so they give identical results. A
+    behaviour record is gathered by the compiled loop only."""
     n = world.n_envs
     obs = world.reset(setup)
-    trace = _empty_trace(cycles, n, world) if record else None
     policy = controller.compiled(cycles)
+    if record == "behaviour" and policy is None:
+        raise ValueError("record='behaviour' needs a controller with a compiled policy; "
+                         "record the full trace instead")
+    full = record is True
+    trace = _empty_trace(cycles, n, world) if full else None
     if policy is not None:
         contact = np.zeros((cycles, n), dtype=np.bool_)
         table = policy.motor_table if policy.motor_table is not None else np.zeros((1, 1, 5))
-        arrays = [getattr(trace, f) for f in _PER_CYCLE] if record else _NO_TRACE
+        arrays = [getattr(trace, f) for f in _PER_CYCLE] if full else _NO_TRACE
+        behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else _NO_BEHAVIOUR
         _run_compiled(world.body, world.body_start, world.shoulder, world.elbow,
                       world.object_xy, world.geometry, world.edges[0], world.edges[1],
                       policy.weights, policy.block, policy.layers, policy.buffer_size, table,
-                      policy.motor_table is not None, contact, record, *arrays)
+                      policy.motor_table is not None, contact, full, *arrays,
+                      record == "behaviour", *vars(behaviour).values())
         world.cycle = cycles
         world.refresh()
-        return TrialMeasures.from_contact(contact), trace
+        return TrialMeasures.from_contact(contact), trace if full else \
+            behaviour if record else None
     contact = np.zeros((cycles, n), dtype=bool)
-    if record:
+    if full:
         _record_state(trace, 0, world, obs)
     for t in range(cycles):
         motor = controller.act(obs)
         obs = world.step(motor)
         contact[t] = obs.touch > 0.5
-        if record:
+        if full:
             trace.motor[t] = motor
             _record_state(trace, t + 1, world, obs)
     return TrialMeasures.from_contact(contact), trace
@@ -115,6 +178,7 @@ def _empty_trace(cycles: int, n: int, world: World) -> Trace:
 _NO_TRACE = (np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1, 2)),
              np.zeros((1, 1)), np.zeros((1, 1), dtype=bool), np.zeros((1, 1), dtype=bool),
              np.zeros((1, 1, N_MOTOR)))
+_NO_BEHAVIOUR = BehaviourRecord.empty(1, 1)
 
 
 def _record_state(trace: Trace, row: int, world: World, obs) -> None:
@@ -137,10 +201,56 @@ def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder
     t_touch[row, i], t_fixated[row, i] = touching, seen
 
 
+@numba.njit(cache=True, inline="always")
+def _tally_row(t, i, m, b, s, e, ox, oy, touching, seen, motor, geo, last_angles, last_hand,
+               last_gap, touched, pre_contact, fixated, values, counts, high, low):
+    """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
+    cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
+    carry row t - 1 and the contact so far from one row to the next."""
+    hx, hy = arm_geometry(b, s, e, geo)[4:]
+    gap = max(hand_object_gap(b, s, e, ox, oy, geo), 0.0)
+    angles = (b, s, e)
+    if t > 0:
+        c = t - 1
+        values[_HAND_SPEED, c, i] = math.hypot(hx - last_hand[m, 0], hy - last_hand[m, 1])
+        values[_EYE_SPEED, c, i] = abs(b - last_angles[m, 0])
+        for u in range(4):
+            values[_MOTOR + u, c, i] = motor[1 + u]
+        if pre_contact[c, i]:
+            counts[_CYCLES, i] += 1
+            for j in range(3):
+                if abs(angles[j] - last_angles[m, j]) > MOVING_DEG:
+                    counts[_MOVING + j, i] += 1
+                high[j, i] = max(high[j, i], last_angles[m, j], angles[j])
+                low[j, i] = min(low[j, i], last_angles[m, j], angles[j])
+            for pair in range(2):       # shoulder, then elbow: (flexor, extensor) = motor 1-2, 3-4
+                f, x = motor[1 + 2 * pair], motor[2 + 2 * pair]
+                if f > x:
+                    counts[_FLEXION + pair, i] += 1
+                if f > 0.5 and x > 0.5:
+                    counts[_BOTH + 2 * pair, i] += 1
+                if f < 0.5 and x < 0.5:
+                    counts[_BOTH + 2 * pair + 1, i] += 1
+            unfixated = 0 if fixated[c, i] else 1
+            counts[_FIXATED, i] += 1 - unfixated
+            if gap - last_gap[m] < -MOVE_EPS:
+                counts[_APPROACH + unfixated, i] += 1
+            if gap - last_gap[m] > MOVE_EPS:
+                counts[_AWAY + unfixated, i] += 1
+    touched[m] = touched[m] or touching
+    if t < pre_contact.shape[0]:
+        pre_contact[t, i], fixated[t, i] = not touched[m], seen
+        values[_SHOULDER, t, i], values[_ELBOW, t, i] = s, e
+    for j in range(3):
+        last_angles[m, j] = angles[j]
+    last_hand[m, 0], last_hand[m, 1], last_gap[m] = hx, hy, gap
+
+
 @numba.njit(cache=True, parallel=True)
 def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights,
                   block, layers, buffer_size, motor_table, use_table, contact, record, t_body,
-                  t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor):
+                  t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor, behaviour,
+                  b_pre_contact, b_fixated, b_values, b_counts, b_high, b_low):
     """Whole trials for each block of environments that share one network: sense, choose
     outputs, move, repeat. Activations are (units, envs of the block), as in forward_block."""
     n_inputs = geo.visual_units + 5
@@ -153,6 +263,8 @@ def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edg
         total = np.zeros(block)
         senses = np.zeros(n_inputs)
         motor = np.zeros(N_MOTOR)
+        last_angles, last_hand = np.zeros((block, 3)), np.zeros((block, 2))
+        last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
         for t in range(cycles + 1):
             for m in range(block):
                 i = first + m
@@ -176,5 +288,10 @@ def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edg
                     _record_row(t, i, body[i], shoulder[i], elbow[i], object_xy[i, 0],
                                 object_xy[i, 1], touching, seen, geo, t_body, t_shoulder,
                                 t_elbow, t_hand, t_gap, t_touch, t_fixated)
+                if behaviour:
+                    _tally_row(t, i, m, body[i], shoulder[i], elbow[i], object_xy[i, 0],
+                               object_xy[i, 1], touching, seen, motor, geo, last_angles,
+                               last_hand, last_gap, touched, b_pre_contact, b_fixated, b_values,
+                               b_counts, b_high, b_low)
             if t < cycles and not use_table:
                 forward_block(buffer[:, :], weights[k], layers, total)

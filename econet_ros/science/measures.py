@@ -1,6 +1,10 @@
 """Behaviour measures behind the paper's Figures 4-9 and the reach summaries of the lesion test,
 computed from a trials ``Trace`` (ROS-free, NumPy only). Definitions: docs/analysis.md.
 
+A study needs only the per-generation row (behaviour_row); it takes it from the much cheaper
+``BehaviourRecord`` the compiled trial loop gathers (recorded_behaviour_row), which gives the
+same row to the last bit (tests/science/test_measures.py checks the two against each other).
+
 Conventions shared by every measure
     cycle t      motor row t, chosen from the state in trace row t and leading to row t + 1.
     pre-contact  cycle t is "before first contact" when the hand touched the object in none of
@@ -15,10 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..trials import Trace
+from ..trials import MOVE_EPS, MOVING_DEG, BehaviourRecord, TrialMeasures, Trace
 
 SQRT2 = np.sqrt(2.0)
-MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
 CHANCE = 0.5              # P(approach) of a movement at random (paper: Figure 8)
 SHOULDER, ELBOW = (1, 2), (3, 4)   # (flexor, extensor) columns of Trace.motor
 
@@ -37,8 +40,12 @@ def econet_envs(econets: np.ndarray, trials: int) -> np.ndarray:
 
 
 def _pooled(values: np.ndarray, mask: np.ndarray) -> float:
-    count = int(mask.sum())
-    return float(values[mask].sum() / count) if count else float("nan")
+    return _mean(values[mask])
+
+
+def _mean(values: np.ndarray) -> float:
+    """Mean of a 1-D array summed as NumPy sums it (pairwise), NaN if empty."""
+    return float(values.sum() / len(values)) if len(values) else float("nan")
 
 
 # -- Figures 4 and 5: flexion -------------------------------------------------------------------
@@ -56,7 +63,6 @@ def mean_angle(trace: Trace, joint: str, mask: np.ndarray | None = None) -> floa
 
 
 JOINTS = ("body", "shoulder", "elbow")
-MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
 
 
 def moving_share(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
@@ -230,6 +236,75 @@ def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -
         **{f"top_{name}_{kind}": both_share(trace, pair, kind == "cocontraction", top_pre)
            for name, pair in (("shoulder", SHOULDER), ("elbow", ELBOW))
            for kind in ("cocontraction", "corelaxation")},
+    }
+
+
+def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, generation: int,
+                           top: np.ndarray, trials: int) -> dict:
+    """behaviour_row from a BehaviourRecord and the trials' measures (any shape, environments in
+    order): the pre-contact counts are summed over the group's environments, the per-cycle
+    values pooled over the same cycles, in the same order, as behaviour_row pools them."""
+    envs = np.zeros(record.pre_contact.shape[1], dtype=bool)
+    envs[econet_envs(top, trials)] = True
+    pre, fix = record.pre_contact, record.fixated
+    top_pre = pre & envs[None, :]
+    cycles, fixated = record.count("cycles"), record.count("fixated")
+
+    def share(name: str, group: np.ndarray | slice, of: np.ndarray) -> float:
+        total = int(of[group].sum())
+        return float(record.count(name)[group].sum() / total) if total else float("nan")
+
+    def deviations(joint: str) -> tuple[float, float]:
+        f, e = (record.value(f"{joint}_{m}")[top_pre] for m in ("flexor", "extensor"))
+        return _mean(coactivation_deviation(f, e)), _mean(reciprocal_deviation(f, e))
+
+    def speed(kind: str, mask: np.ndarray) -> float:
+        return _pooled(record.value(f"{kind}_speed"), mask)
+
+    def excursion_of(j: int) -> float:
+        counted = cycles > 0
+        span = record.angle_high[j] - record.angle_low[j]
+        return float(span[counted].mean()) if counted.any() else float("nan")
+
+    def latency(group: np.ndarray | slice) -> float:
+        hit = np.ravel(measures.success)[group]
+        found = np.ravel(measures.latency)[group][hit]
+        return float(found.mean()) if hit.any() else float("nan")
+
+    s_co, s_re = deviations("shoulder")
+    e_co, e_re = deviations("elbow")
+    everything = slice(None)
+    unfixated = cycles - fixated
+    return {
+        "generation": generation,
+        "all_shoulder_flexion": 100.0 * share("shoulder_flexion", everything, cycles),
+        "all_elbow_flexion": 100.0 * share("elbow_flexion", everything, cycles),
+        "all_shoulder_angle": _pooled(record.value("shoulder"), pre),
+        "all_elbow_angle": _pooled(record.value("elbow"), pre),
+        "top_shoulder_flexion": 100.0 * share("shoulder_flexion", envs, cycles),
+        "top_elbow_flexion": 100.0 * share("elbow_flexion", envs, cycles),
+        "top_shoulder_angle": _pooled(record.value("shoulder"), top_pre),
+        "top_shoulder_coact": s_co, "top_shoulder_recip": s_re,
+        "top_elbow_coact": e_co, "top_elbow_recip": e_re,
+        "top_approach_fix": share("approach_fixated", envs, fixated),
+        "top_approach_nofix": share("approach_unfixated", envs, unfixated),
+        "top_away_fix": share("away_fixated", envs, fixated),
+        "top_away_nofix": share("away_unfixated", envs, unfixated),
+        "top_fix_cycles": int(fixated[envs].sum()),
+        "top_nofix_cycles": int(unfixated[envs].sum()),
+        "top_hand_speed_fix": speed("hand", top_pre & fix),
+        "top_eye_speed_fix": speed("eye", top_pre & fix),
+        "top_hand_speed_nofix": speed("hand", top_pre & ~fix),
+        "top_eye_speed_nofix": speed("eye", top_pre & ~fix),
+        "top_hand_speed_fix_allcyc": speed("hand", fix & envs[None, :]),
+        "top_eye_speed_fix_allcyc": speed("eye", fix & envs[None, :]),
+        "top_latency_success": latency(envs),
+        "all_latency_success": latency(everything),
+        **{f"all_{joint}_moving": share(f"{joint}_moving", everything, cycles)
+           for joint in JOINTS},
+        **{f"all_{joint}_excursion": excursion_of(j) for j, joint in enumerate(JOINTS)},
+        **{f"top_{joint}_{kind}": share(f"{joint}_{kind}", envs, cycles)
+           for joint in ("shoulder", "elbow") for kind in ("cocontraction", "corelaxation")},
     }
 
 

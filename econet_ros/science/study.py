@@ -31,7 +31,7 @@ from ..evolution import Evaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
 from ..runs import METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay, run_folder
-from .measures import BEHAVIOUR_COLUMNS, behaviour_row
+from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
 BEHAVIOUR_FILE = "behaviour.csv"
@@ -175,7 +175,8 @@ def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
     path = Path(run_dir) / BEHAVIOUR_FILE
 
     def record(result) -> None:
-        row = behaviour_row(result.trace, result.generation, result.parents, trials)
+        row = recorded_behaviour_row(result.trace, result.measures, result.generation,
+                                     result.parents, trials)
         append_row(path, [row[c] for c in BEHAVIOUR_COLUMNS])
 
     def repair(done: int) -> None:
@@ -188,10 +189,10 @@ def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
             start_table(path, BEHAVIOUR_COLUMNS)
         cut_table(path, kept)
         for generation in range(kept, done):
-            record(replay(run_dir, generation, evaluator=evaluator))
+            record(replay(run_dir, generation, "behaviour", evaluator))
 
     return evolve_into(run_dir, config, seed, run, evaluator, lambda result, _: record(result),
-                       record=True, on_open=repair)
+                       record="behaviour", on_open=repair)
 
 
 def _worker_init() -> None:

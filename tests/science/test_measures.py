@@ -142,6 +142,33 @@ def test_behaviour_row_groups_top_econets():
     assert set(row) == set(A.BEHAVIOUR_COLUMNS)
 
 
+@pytest.mark.parametrize("settings", [
+    {}, {"evolution.condition": "three-layer"}, {"evolution.condition": "random"},
+    {"model.angle_steps": "round", "model.joint_limit": "cancel"},
+    {"model.start_posture": "extended", "model.object_radius": 6.0}])
+def test_recorded_behaviour_row_equals_the_trace_one_to_the_last_bit(settings):
+    """The study's behaviour row, from the compiled loop's BehaviourRecord, is the one
+    behaviour_row computes from a full Trace of the same trials (repr: every bit, NaN too)."""
+    from econet_ros.evolution import Evaluator, initial_genomes
+
+    config = Config().replace(**{"evolution.population": 12, "evolution.parents": 3,
+                                 "evolution.trials": 6, "evolution.cycles": 60, **settings})
+    evaluator = Evaluator(config)
+    genomes = initial_genomes(config, evaluator.n_weights, 5, 1)
+    full = evaluator.test_generation(genomes, 5, 1, 0, record=True)
+    lean = evaluator.test_generation(genomes, 5, 1, 0, record="behaviour")
+    expected = A.behaviour_row(full.trace, 0, full.parents, 6)
+    got = A.recorded_behaviour_row(lean.trace, lean.measures, 0, lean.parents, 6)
+    assert {k: repr(v) for k, v in got.items()} == {k: repr(v) for k, v in expected.items()}
+
+
+def test_a_behaviour_record_needs_a_compiled_controller():
+    config = Config()
+    world = World(4, config.model)
+    with pytest.raises(ValueError, match="compiled"):
+        run_trials(world, Scripted(4, config, [0.5] * 5), far_setup(4), 3, record="behaviour")
+
+
 def test_severing_proprioception_removes_its_influence():
     config = Config()
     net = FourLayerNetwork(2, config)
