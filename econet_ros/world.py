@@ -271,14 +271,20 @@ class World:
         """Apply one motor command per environment (clipped to [0, 1]), advance one cycle,
         sense again. A command of the wrong shape, or with NaN or infinite values, raises
         ActionError and changes nothing."""
+        return self.step_with(_step_batch, motor)
+
+    def step_with(self, kernel, motor: np.ndarray, *extra) -> Observation:
+        """``step`` with another kernel of ``_step_batch``'s arguments and ``extra`` ones, which
+        advances the cycle as ``_step_batch`` does and writes its senses elsewhere too (the
+        sensor messages' bytes: econet_ros.lockstep_wire), in the same launch."""
         motor = np.asarray(motor, dtype=np.float64)
         if motor.shape != (self.n_envs, N_MOTOR):
             raise ActionError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "
                               f"got {motor.shape}")
         senses, fixated = self._new_senses()
-        if not _step_batch(self.body, self.shoulder, self.elbow, motor, self.object_xy,
-                           self.geometry, self.edges[0], self.edges[1], senses, fixated,
-                           self.body_start):
+        if not kernel(self.body, self.shoulder, self.elbow, motor, self.object_xy,
+                      self.geometry, self.edges[0], self.edges[1], senses, fixated,
+                      self.body_start, *extra):
             raise ActionError("motor command contains NaN or infinite values")
         self.senses, self.fixated = senses, fixated
         self.cycle += 1
@@ -625,14 +631,29 @@ def _step_batch(body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, se
                 body_start):
     """One cycle of World.step in one parallel launch: move, then sense. Returns False,
     changing nothing, if a command is not finite."""
+    if not all_finite(motor):
+        return False
+    for i in numba.prange(body.shape[0]):
+        step_env(i, body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, senses,
+                 fixated, body_start)
+    return True
+
+
+@numba.njit(cache=True, inline="always")
+def all_finite(motor):
     for i in range(motor.shape[0]):
         for u in range(N_MOTOR):
             if not math.isfinite(motor[i, u]):
                 return False
-    for i in numba.prange(body.shape[0]):
-        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
-                                              motor[i, 1], motor[i, 2], motor[i, 3],
-                                              motor[i, 4], geo, body_start[i])
-        fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
-                           edge_x, edge_y, senses[i])
     return True
+
+
+@numba.njit(cache=True, inline="always")
+def step_env(i, body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, senses, fixated,
+             body_start):
+    """One environment's cycle of _step_batch: move, then sense into row i."""
+    body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[i, 0],
+                                          motor[i, 1], motor[i, 2], motor[i, 3], motor[i, 4],
+                                          geo, body_start[i])
+    fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
+                       edge_x, edge_y, senses[i])

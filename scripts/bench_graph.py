@@ -12,7 +12,12 @@
      process, driven by this process as the supervisor (SupervisorNode.test_generation);
 and prints how far the graph is above its floor, floor = in-process + messaging alone (the
 model's work plus the messages, neither of which the graph can avoid), against the target of
-1.3 x the floor, and the projected time of a whole run.
+1.3 x the floor, and the projected time of a whole run; then where a cycle of the graph goes:
+each part of the nodes' per-cycle work timed in a hot loop here (the same calls the nodes
+make, paper size), against the graph's cycle and messaging alone.
+
+Every process it starts is waited for until it says it is ready (the nodes log "... ready" once
+their kernels are compiled, minutes on a cold numba cache), not for a fixed time.
 
 Run after the set-up:  . scripts/env.sh && python scripts/bench_graph.py [--generations 5]
 Defaults are paper size: 100 econets x 20 trials (2000 environments) x 100 cycles.
@@ -20,16 +25,22 @@ Defaults are paper size: 100 econets x 20 trials (2000 environments) x 100 cycle
 from __future__ import annotations
 
 import argparse
+import collections
 import os
 import random
 import signal
 import statistics
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
+# A process that has not said it is ready after this long has failed: compiling every kernel
+# on a cold numba cache takes 2-3 minutes on a busy two-core machine.
+READY_TIMEOUT_SEC = 900.0
+READY = "bench ready"       # what the echo and the stand-ins print once they are
 
 
 def echo_main() -> int:
@@ -44,6 +55,7 @@ def echo_main() -> int:
     pub = node.create_publisher(Touch, "pong", common.LOCKSTEP_QOS)
     node.create_subscription(Touch, "ping", pub.publish, common.LOCKSTEP_QOS)
     executor = make_executor()
+    print(READY, flush=True)
     try:
         spin(node, executor)
     except KeyboardInterrupt:
@@ -51,19 +63,27 @@ def echo_main() -> int:
     return 0
 
 
-def paper_cycle_messages(n_envs: int) -> tuple[dict[str, bytes], bytes]:
-    """One cycle's serialized sensor messages and muscle command, at their real sizes."""
+def paper_cycle(n_envs: int):
+    """A world of n_envs environments at the start of a trial, its sensor messages written
+    (lockstep_wire), and a muscle command for it."""
     import numpy as np
     from econet_ros.config import Config
-    from econet_ros.nodes import graph as common
+    from econet_ros.lockstep_wire import CommandMessage, SensorMessages
     from econet_ros.world import N_MOTOR, World, sample_setups
 
     model = Config().model
     world = World(n_envs, model)
     world.reset(sample_setups(np.random.default_rng(0), n_envs, model))
-    sensors = common.encode_sensors(world.observe(), 1, False)
-    command = common.encode_command(1, 0, np.full((n_envs, N_MOTOR), 0.5))
-    return sensors, command
+    wire = SensorMessages(n_envs, model.visual_units)
+    wire.write(world, 1, False)
+    motor = np.full((n_envs, N_MOTOR), 0.5)
+    return world, wire, CommandMessage(n_envs), motor
+
+
+def paper_cycle_messages(n_envs: int) -> tuple[dict[str, bytes], bytes]:
+    """One cycle's serialized sensor messages and muscle command, at their real sizes."""
+    _, wire, command, motor = paper_cycle(n_envs)
+    return wire.encoded(), command.encode(1, 0, motor)
 
 
 def stand_in_main(role: str, n_envs: int) -> int:
@@ -97,6 +117,7 @@ def stand_in_main(role: str, n_envs: int) -> int:
                 pub.publish(command)
         for part in SENSORS:
             common.subscription(node, part, lambda _data, part=part: on_part(part), raw=True)
+    print(READY, flush=True)
     try:
         spin(node, make_executor())
     except KeyboardInterrupt:
@@ -116,17 +137,103 @@ def messaging_alone(executor, node, n: int) -> float:
     spin_until(executor, lambda: kick.get_subscription_count() > 0
                and node.count_publishers("muscle_command") > 1
                and node.count_publishers("touch") > 0
-               and node.count_subscribers("retina") > 0)
+               and node.count_subscribers("retina") > 0,
+               "the stand-in world and controller to match")
     kick.publish(paper_cycle_messages(1)[1])          # the first command; then they run alone
-    spin_until(executor, lambda: len(touches) > n + 50)
+    spin_until(executor, lambda: len(touches) > n + 50,
+               f"{n + 50} cycles of the stand-in world and controller")
     node.destroy_subscription(listen)
     node.destroy_publisher(kick)
     return (touches[n + 50] - touches[50]) / n
 
 
-def start(args: list[str]) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, *args], cwd=REPO, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, start_new_session=True)
+def cycle_parts(args, executor, node, n: int = 300) -> list[tuple[str, float, bool]]:
+    """(part, median seconds, whether messaging alone does it too) for each part of the
+    nodes' per-cycle work, timed here in a hot loop, paper size: the calls world_node and
+    controller_node make, in their order, publishing to topics of their own."""
+    import numpy as np
+    from econet_ros.evolution import genome_weights, initial_genomes
+    from econet_ros.nodes import graph as common
+    from econet_ros.plugins import resolve
+    from econet_ros.topics import COMMAND, SENSORS, observation_from_fields, sensor_problem
+
+    n_envs = args.population * args.trials
+    world, wire, command, motor = paper_cycle(n_envs)
+    controller = resolve(args.config.evolution.condition)(n_envs, args.config)
+    controller.load(genome_weights(args.config, initial_genomes(
+        args.config, controller.n_params, 1, 1)))
+    pubs = {part: node.create_publisher(common.message_class(part), f"bench_parts_{part}",
+                                        common.qos(part)) for part in (*SENSORS, COMMAND)}
+    subs = [node.create_subscription(common.message_class(part), f"bench_parts_{part}",
+                                     lambda _data: None, common.qos(part), raw=True)
+            for part in pubs]
+    spin_until(executor, lambda: all(pub.get_subscription_count() for pub in pubs.values()),
+               "the bench's own subscriptions to match")
+
+    def timed(call, publishes: bool = False) -> float:
+        times = []
+        for i in range(n + 20):                 # the first 20 warm up
+            t0 = time.perf_counter()
+            call()
+            times.append(time.perf_counter() - t0)
+            if publishes:
+                executor.spin_once(timeout_sec=0)
+        return statistics.median(times[20:])
+
+    sensors = wire.encoded()
+    decoded = {part: common.decode(node, part, sensors[part]) for part in SENSORS}
+    obs = observation_from_fields(decoded)
+    outputs = controller.act(obs)
+    data = command.encode(1, 0, outputs)
+    units = args.config.model.visual_units
+    parts = [
+        ("world: decode the command", timed(lambda: common.decode(node, COMMAND, data)), False),
+        ("world: step and write the three messages (one kernel)",
+         timed(lambda: wire.step(world, motor, 1, False)), False),
+        ("      (World.step alone, for comparison)", timed(lambda: world.step(motor)), None),
+        ("world: the messages as bytes for rclpy", timed(wire.encoded), True),
+        ("world: publish the three", timed(lambda: [pubs[part].publish(sensors[part])
+                                                    for part in SENSORS], True), True),
+        ("controller: decode the three (views)",
+         timed(lambda: [common.decode(node, part, sensors[part]) for part in SENSORS]), False),
+        ("controller: check the three", timed(lambda: [sensor_problem(
+            part, decoded[part], n_envs, units) for part in SENSORS]), False),
+        ("controller: observation from the messages",
+         timed(lambda: observation_from_fields(decoded)), False),
+        ("controller: forward (act)", timed(lambda: controller.act(obs)), False),
+        ("controller: write the command", timed(lambda: command.encode(1, 0, outputs)), True),
+        ("controller: publish it", timed(lambda: pubs[COMMAND].publish(data), True), True),
+    ]
+    for sub in subs:
+        node.destroy_subscription(sub)
+    for pub in pubs.values():
+        node.destroy_publisher(pub)
+    return parts
+
+
+def start(args: list[str], ready: str) -> subprocess.Popen:
+    """Start a Python process and wait until a line of its output contains ``ready`` (its
+    output is read on, and its last lines are kept for the error message if it fails)."""
+    proc = subprocess.Popen([sys.executable, *args], cwd=REPO, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+    said_ready, tail = threading.Event(), collections.deque(maxlen=10)
+
+    def read() -> None:
+        for line in proc.stdout:
+            tail.append(line.rstrip())
+            if ready in line:
+                said_ready.set()
+    threading.Thread(target=read, daemon=True).start()
+    deadline = time.monotonic() + READY_TIMEOUT_SEC
+    while not said_ready.wait(0.2):
+        if proc.poll() is not None or time.monotonic() > deadline:
+            what = "exited" if proc.poll() is not None else \
+                f"did not say it within {READY_TIMEOUT_SEC:g} s"
+            stop([proc])
+            raise SystemExit(f"bench_graph: error: waited for {' '.join(args)} to say "
+                             f"'{ready}' (once its kernels are compiled); it {what}; its last "
+                             "lines:\n  " + "\n  ".join(tail))
+    return proc
 
 
 def stop(procs: list[subprocess.Popen]) -> None:
@@ -141,11 +248,13 @@ def stop(procs: list[subprocess.Popen]) -> None:
             proc.wait()
 
 
-def spin_until(executor, done, timeout: float = 20.0) -> None:
+def spin_until(executor, done, what: str, timeout: float = 60.0) -> None:
+    """Spin until done(); the processes are ready by now, so this waits for DDS discovery or
+    for messages, never for a compilation."""
     deadline = time.monotonic() + timeout
     while not done():
         if time.monotonic() > deadline:
-            raise SystemExit("bench_graph: error: timed out waiting for the other process")
+            raise SystemExit(f"bench_graph: error: waited {timeout:g} s for {what}")
         executor.spin_once(timeout_sec=0.05)
 
 
@@ -157,12 +266,12 @@ def round_trip(executor, node, n: int) -> list[float]:
     pub = node.create_publisher(Touch, "ping", common.LOCKSTEP_QOS)
     node.create_subscription(Touch, "pong", got.append, common.LOCKSTEP_QOS)
     spin_until(executor, lambda: pub.get_subscription_count() > 0
-               and node.count_publishers("pong") > 0)
+               and node.count_publishers("pong") > 0, "the echo to match")
     times = []
     for i in range(n + 50):              # the first 50 warm up
         t0 = time.perf_counter()
         pub.publish(Touch(cycle=i))
-        spin_until(executor, lambda: len(got) > i)
+        spin_until(executor, lambda: len(got) > i, f"pong {i}")
         times.append(time.perf_counter() - t0)
     return times[50:]
 
@@ -235,7 +344,8 @@ def through_graph(args, executor, genomes, expected) -> float:
     return statistics.median(times)
 
 
-def report(args, t_in: float, rtt: list[float], t_msg: float, t_graph: float) -> None:
+def report(args, t_in: float, rtt: list[float], t_msg: float, t_graph: float,
+           parts: list) -> None:
     t_rtt = statistics.mean(rtt)
     floor = t_in + args.cycles * t_msg
     ms = 1000.0
@@ -255,6 +365,23 @@ def report(args, t_in: float, rtt: list[float], t_msg: float, t_graph: float) ->
     whole = args.run_generations * t_graph
     print(f"projected {args.run_generations}-generation run through the graph: {whole:.0f} s "
           f"(in-process {args.run_generations * t_in:.0f} s)")
+    us = 1e6
+    print("\nwhere a cycle of the graph goes (median us per cycle; hot loops in this process,")
+    print("the nodes' calls at the same size; 'also alone': messaging alone does it too):")
+    for name, seconds, alone in parts:
+        note = "  also alone" if alone else ""
+        print(f"  {name:<58}{seconds * us:8.1f}{note}")
+    work = sum(seconds for _, seconds, alone in parts if alone is False)
+    per_cycle = {"in-process cycle (its generation / cycles)": t_in / args.cycles,
+                 "messaging alone, per cycle": t_msg,
+                 "graph, per cycle": t_graph / args.cycles}
+    for name, seconds in per_cycle.items():
+        print(f"  {name:<58}{seconds * us:8.1f}")
+    print(f"  {'the nodes work beyond messaging alone (the parts not also alone)':<58}"
+          f"{work * us:8.1f}")
+    left = t_graph / args.cycles - t_msg - work
+    print(f"  {'left: graph - messaging alone - that work':<58}{left * us:8.1f}  (wake-ups, "
+          "cold caches, kernel launches, scheduling of three processes on the CPUs)")
 
 
 def main() -> int:
@@ -277,22 +404,23 @@ def main() -> int:
                      *[x for k, v in args.sizes.items() for x in ("-p", f"{k}:={v}")]])
     try:
         executor = make_executor()
-        procs.append(start([__file__, "--echo"]))
+        procs.append(start([__file__, "--echo"], READY))
         node = rclpy.create_node("bench_ping")
         executor.add_node(node)
+        parts = cycle_parts(args, executor, node)
         rtt = round_trip(executor, node, args.round_trips)
         stop(procs)
-        procs[:] = [start([__file__, "--stand-in", role, str(n_envs)])
+        procs[:] = [start([__file__, "--stand-in", role, str(n_envs)], READY)
                     for role in ("world", "controller")]
         t_msg = messaging_alone(executor, node, args.round_trips)
         stop(procs)
-        procs[:] = [start(["-m", f"econet_ros.nodes.{role}_node"])
+        procs[:] = [start(["-m", f"econet_ros.nodes.{role}_node"], f"{role} ready")
                     for role in ("world", "controller")]
         t_graph = through_graph(args, executor, genomes, expected)
     finally:
         stop(procs)
         rclpy.try_shutdown()
-    report(args, t_in, rtt, t_msg, t_graph)
+    report(args, t_in, rtt, t_msg, t_graph, parts)
     return 0
 
 

@@ -16,6 +16,7 @@ from rclpy.node import Node
 
 from ..config import Config
 from ..errors import ConfigError, PluginError
+from ..lockstep_wire import CommandMessage, SensorMessages
 from ..plugins import resolve
 from ..topics import COMMAND, MAX_ENVS, SENSORS, observation_from_fields, sensor_problem
 from ..world import World
@@ -52,17 +53,14 @@ class ControllerNode(Node):
         try:
             self.cls = resolve(self.network)
             self.controller = self.cls(n_envs, self.config)
-            # compile (or load) the network's kernel now, not in the first timed cycle, for
-            # sensors as they arrive (read-only arrays)
-            sensors = graph.encode_sensors(World(1, self.config.model).observe(), 0, False)
-            self.cls(1, self.config).act(observation_from_fields(
-                {part: graph.CODECS[part].decode(data) for part, data in sensors.items()}))
+            self._compile_kernels()
         except PluginError:
             raise
         except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
             raise ConfigError(f"controller '{self.network}' failed to start: "
                               f"{type(error).__name__}: {error}") from None
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
+        self.command = CommandMessage(n_envs)
 
         self.pub = graph.publisher(self, COMMAND)
         self.refusals = graph.RateLimitedLog(self)
@@ -74,6 +72,16 @@ class ControllerNode(Node):
         self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")
+
+    def _compile_kernels(self) -> None:
+        """Compile (or load) the network's kernel now, not in the first timed cycle, for sensors
+        as they arrive (read-only arrays), so that "ready" means ready."""
+        world = World(1, self.config.model)
+        wire = SensorMessages(1, self.config.model.visual_units)
+        wire.write(world, 0, False)
+        parts = {part: graph.decode(self, part, data) for part, data in wire.encoded().items()}
+        CommandMessage(1).encode(0, 0, self.cls(1, self.config).act(
+            observation_from_fields(parts)))
 
     # -- weights ------------------------------------------------------------------------------
     def _on_set_weights(self, request, response):
@@ -154,9 +162,12 @@ class ControllerNode(Node):
             self._act(parts)
 
     def _act(self, parts: dict) -> None:
+        """The network's outputs, written into the reused command message (lockstep_wire)."""
         retina = parts["retina"]
         motor = self.controller.act(observation_from_fields(parts))
-        graph.send(self, self.pub, graph.encode_command(retina["trial"], retina["cycle"], motor))
+        if self.command.n_envs != len(motor):
+            self.command = CommandMessage(len(motor))
+        graph.send(self, self.pub, self.command.encode(retina["trial"], retina["cycle"], motor))
 
 
 def main(args: list[str] | None = None) -> int:

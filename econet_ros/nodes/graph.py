@@ -15,9 +15,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import WireError
-from ..topics import (COMMAND, LOCKSTEP, QOS_KINDS, READER_KINDS, SENSORS, SERVICES, TF_STATIC,
-                      TOPICS, command_fields, sensor_fields)
-from ..world import Observation
+from ..topics import LOCKSTEP, QOS_KINDS, READER_KINDS, SENSORS, SERVICES, TF_STATIC, TOPICS
 from .wire import Codec
 
 def _profile(spec) -> QoSProfile:
@@ -224,15 +222,6 @@ def decode(node: Node, part: str, data: bytes) -> dict | None:
         return None
 
 
-def encode_sensors(obs: Observation, trial: int, final: bool) -> dict[str, bytes]:
-    """A cycle's three sensor messages, serialized straight from the observation's arrays."""
-    return {part: CODECS[part].encode(**fields)
-            for part, fields in sensor_fields(obs, trial, final).items()}
-
-
-def encode_command(trial: int, cycle: int, motor: np.ndarray) -> bytes:
-    return CODECS[COMMAND].encode(**command_fields(trial, cycle, motor))
-
 
 # -- arrays <-> typed message fields (services, trial starts) ----------------------------------
 # rclpy stores float64[] / uint8[] fields as array.array. Assigning a numpy array goes through
@@ -262,4 +251,4 @@ def typed(fields: dict) -> dict:
 __all__ = ["QOS", "LOCKSTEP_QOS", "SENSORS", "CODECS", "interface", "message_class", "qos",
            "reader_qos", "service_class", "publisher", "subscription", "service", "client",
            "send", "RateLimitedLog", "Partner", "node_of", "tf_static_publisher", "decode",
-           "encode_sensors", "encode_command", "f64", "as_f64", "as_u8", "typed"]
+           "f64", "as_f64", "as_u8", "typed"]

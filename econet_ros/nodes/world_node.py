@@ -23,6 +23,7 @@ from rclpy.node import Node
 from econet_msgs.msg import TrialStart
 
 from ..errors import ConfigError, SetupError
+from ..lockstep_wire import CommandMessage, SensorMessages
 from ..recording import display
 from ..topics import COMMAND, FRAME, MAX_ENVS, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups
@@ -72,11 +73,9 @@ class WorldNode(Node):
         self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
         self._last_display = -math.inf
 
-        # Compile (or load) the kernels now, for commands as they arrive: read-only arrays.
-        codec = graph.CODECS[COMMAND]
-        World(1, self.model).step(self._motor(codec.decode(graph.encode_command(
-            0, 0, NEUTRAL[None, :])), n_envs=1))
+        self._compile_kernels()
         self.world = World(n_envs, self.model)
+        self.wire = SensorMessages(n_envs, self.model.visual_units)
         # and load the picture's message types (a fifth of a second), not in the first cycle
         display.picture(self.world, 0, False, False, self.frame_id, 0)
         self.trial = 0
@@ -101,6 +100,14 @@ class WorldNode(Node):
             self.create_timer(RESEND_SEC / 4, self._resend_if_unanswered)
         self.get_logger().info(f"world ready: {n_envs} environment(s), {self.mode} mode")
 
+    def _compile_kernels(self) -> None:
+        """Compile (or load) the kernels of a cycle now, not in the first timed one, for
+        commands as they arrive (read-only arrays), so that "ready" means ready."""
+        world, wire = World(1, self.model), SensorMessages(1, self.model.visual_units)
+        wire.write(world, 0, False)
+        command = graph.decode(self, COMMAND, CommandMessage(1).encode(0, 0, NEUTRAL[None, :]))
+        wire.step(world, self._motor(command, n_envs=1), 0, False)
+
     def _publish_frame(self) -> None:
         """/tf_static: the frame of the pictures at the origin of `map` (RViz's default fixed
         frame). tf2_msgs is not among the PyPI wheels; without it the bags and the viewer still
@@ -117,6 +124,7 @@ class WorldNode(Node):
     def _start(self, setup: TrialSetup, cycles: int) -> None:
         if len(setup) != self.world.n_envs:
             self.world = World(len(setup), self.model)
+            self.wire = SensorMessages(len(setup), self.model.visual_units)
         self.world.reset(setup)
         self._last_display = -math.inf        # every trial's first picture is its cycle 0
         self.trial += 1
@@ -124,7 +132,9 @@ class WorldNode(Node):
         self.started = True
         self.pub_start.publish(TrialStart(**graph.typed(trial_start_fields(
             self.trial, cycles, self.mode == "lockstep", setup, self.model))))
-        self._publish(self.world.observe())
+        final = self._final(0)
+        self.wire.write(self.world, self.trial, final)
+        self._publish(self.world.observe(), final)
 
     def _new_free_trial(self) -> None:
         rng = np.random.default_rng(self.seed + self.trial + 1)
@@ -193,12 +203,22 @@ class WorldNode(Node):
         motor = self._motor(msg)
         if motor is None:
             return
+        self._step(motor)
+
+    def _step(self, motor: np.ndarray) -> None:
+        """One cycle: the world moves, senses and writes the sensor messages in one kernel
+        launch (which checks that every command value is finite); they go out."""
+        final = self._final(self.world.cycle + 1)
         try:
-            obs = self.world.step(motor)        # its kernel checks that every value is finite
+            obs = self.wire.step(self.world, motor, self.trial, final)
         except ValueError:
             self._not_finite()
             return
-        self._publish(obs)
+        self._publish(obs, final)
+
+    def _final(self, cycle: int) -> bool:
+        """Whether ``cycle`` is the trial's last."""
+        return bool(self.limit and cycle >= self.limit)
 
     def _out_of_step(self, msg: dict) -> str | None:
         """Why a lockstep command is not the one the world waits for (None if it is)."""
@@ -231,13 +251,12 @@ class WorldNode(Node):
         motor = self.latest
         if motor is None or motor.shape[0] != self.world.n_envs:
             motor = np.tile(NEUTRAL, (self.world.n_envs, 1))
-        self._publish(self.world.step(motor))
+        self._step(motor)
 
     # -- output -----------------------------------------------------------------------------
-    def _publish(self, obs: Observation) -> None:
-        """The cycle's sensor messages, serialized straight from the arrays (see wire)."""
-        final = bool(self.limit and obs.cycle >= self.limit)
-        sensors = graph.encode_sensors(obs, self.trial, final)
+    def _publish(self, obs: Observation, final: bool) -> None:
+        """The cycle's sensor messages, as the world's kernel wrote them (lockstep_wire)."""
+        sensors = self.wire.encoded()
         for part, data in sensors.items():
             graph.send(self, self.sensor_pubs[part], data)
         now = time.monotonic()

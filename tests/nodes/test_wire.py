@@ -1,11 +1,15 @@
-"""The lockstep messages written and read with numpy (econet_ros.nodes.wire) are the bytes rclpy
-itself reads and writes."""
+"""The lockstep messages written and read with numpy (econet_ros.nodes.wire), and written in place
+by the nodes' kernels (econet_ros.lockstep_wire), are the bytes rclpy itself reads and writes."""
 import numpy as np
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 
 from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
+from econet_ros.config import Config
+from econet_ros.lockstep_wire import FIELDS, CommandMessage, SensorMessages
 from econet_ros.nodes.wire import Codec, WireError
+from econet_ros.topics import COMMAND, SENSORS, command_fields, sensor_fields
+from econet_ros.world import World, sample_setups
 
 LOCKSTEP = (Retina, Proprioception, Touch, MuscleCommand)
 
@@ -68,3 +72,54 @@ def test_arrays_are_written_row_major_whatever_their_memory_layout():
     assert np.array_equal(np.asarray(msg.activation), vision.reshape(-1))
     assert np.array_equal(np.asarray(msg.fixated), fixated.astype(np.uint8))
     assert data == serialize_message(msg)
+
+
+# -- the bytes the nodes write in place (econet_ros.lockstep_wire) -------------------------------
+def test_the_in_place_layout_lists_the_fields_of_the_generated_classes():
+    for part, msg_type in zip((*SENSORS, COMMAND), LOCKSTEP):
+        ours = [(name, np.dtype(code.removesuffix("[]")), code.endswith("[]"))
+                for name, code in FIELDS[part]]
+        assert ours == Codec(msg_type).fields, part
+
+
+@pytest.mark.parametrize("n", [1, 3, 2001])
+def test_the_world_kernel_writes_the_bytes_the_codec_writes(n):
+    """For random trials, commands and heads: the messages the world's kernel writes while it
+    steps are the Codec's serialisation of the same cycle, and the world moves as World.step
+    moves it."""
+    model = Config().model
+    rng = np.random.default_rng(n)
+    setup = sample_setups(rng, n, model)
+    plain, written = World(n, model), World(n, model)
+    plain.reset(setup)
+    written.reset(setup)
+    wire = SensorMessages(n, model.visual_units)
+    trial = int(rng.integers(0, 2 ** 32))
+    wire.write(written, trial, False)
+    assert wire.encoded() == codec_sensors(plain.observe(), trial, False)
+    for cycle in range(12):
+        motor = rng.random((n, 5)) * 1.4 - 0.2           # beyond [0, 1] too: clipped
+        trial, final = int(rng.integers(0, 2 ** 32)), bool(rng.integers(2))
+        expected = plain.step(motor)
+        got = wire.step(written, motor, trial, final)
+        assert wire.encoded() == codec_sensors(expected, trial, final), cycle
+        for name in ("body", "shoulder", "elbow", "senses", "fixated"):
+            assert np.array_equal(getattr(written, name), getattr(plain, name)), name
+        assert got.cycle == expected.cycle
+    with pytest.raises(ValueError, match="NaN"):
+        wire.step(written, np.full((n, 5), np.nan), 0, False)
+
+
+def test_the_command_written_in_place_is_the_codec_s():
+    rng = np.random.default_rng(5)
+    command = CommandMessage(7)
+    for _ in range(3):              # the buffer is reused: nothing of the last one stays
+        trial, cycle, motor = int(rng.integers(0, 2 ** 32)), int(rng.integers(0, 2 ** 32)), \
+            rng.random((7, 5))
+        assert command.encode(trial, cycle, motor) == \
+            Codec(MuscleCommand).encode(**command_fields(trial, cycle, motor))
+
+
+def codec_sensors(obs, trial: int, final: bool) -> dict[str, bytes]:
+    return {part: Codec(msg_type).encode(**fields) for (part, fields), msg_type in
+            zip(sensor_fields(obs, trial, final).items(), LOCKSTEP)}
