@@ -16,6 +16,7 @@ tests/core/test_compile_kernels.py checks that real commands compile nothing it 
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import sys
 import tempfile
@@ -69,8 +70,8 @@ def compiled_signatures() -> dict[str, list[str]]:
     """Every kernel of the package and the argument types it has been compiled for."""
     found = {}
     for module_name in KERNEL_MODULES:
-        module = sys.modules.get(f"econet_ros.{module_name.removesuffix('.py')}")
-        for name, value in vars(module or object()).items():
+        module = importlib.import_module(f"econet_ros.{module_name.removesuffix('.py')}")
+        for name, value in vars(module).items():
             if hasattr(value, "signatures") and hasattr(value, "py_func"):
                 found[f"{module.__name__}.{name}"] = sorted(str(s) for s in value.signatures)
     return found
