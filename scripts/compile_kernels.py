@@ -29,6 +29,7 @@ import econet_ros
 from econet_ros import KERNEL_MODULES
 from econet_ros.config import CONDITIONS, Config
 from econet_ros.evolution import Evaluator
+from econet_ros.lockstep_wire import SensorMessages
 from econet_ros.plugins import make_controller
 from econet_ros.runs import evolve_into
 from econet_ros.science.study import run_with_behaviour
@@ -50,7 +51,8 @@ def warm_every_path() -> None:
 
 
 def warm_per_cycle(config: Config, n_envs: int = 4) -> None:
-    """The per-cycle API, as the world and controller nodes and the Gymnasium env call it."""
+    """The per-cycle API, as the world and controller nodes and the Gymnasium env call it, and
+    the nodes' message writers (lockstep_wire)."""
     rng = np.random.default_rng(0)
     world = World(n_envs, config.model)
     obs = world.reset(sample_setups(rng, n_envs, config.model))
@@ -60,6 +62,9 @@ def warm_per_cycle(config: Config, n_envs: int = 4) -> None:
     if hasattr(controller, "forward"):
         controller.forward(obs.network_input())
     world.step(motor)
+    wire = SensorMessages(n_envs, config.model.visual_units)
+    wire.write(world, 0, False)
+    wire.step(world, motor, 0, False)
     world.observe()
     world.restart(np.arange(1), sample_setups(rng, 1, config.model))
     world.arm_points()

@@ -1,8 +1,9 @@
 """scripts/compile_kernels.py, which scripts/setup runs so that no user pays for compiling, must
 compile every kernel signature that real commands use: a study (evolution under every condition,
-behaviour rows, the lesion, the optimizer comparison, the analysis), `econet evaluate` (recording a bag)
-with every controller, and the Gymnasium env. Each side runs in its own process and reports the signatures its kernels hold,
-which numba fills whether it compiles or loads from the cache (warm after scripts/setup)."""
+behaviour rows, the lesion, the optimizer comparison, the analysis), `econet evaluate`
+(recording a bag) with every controller, the Gymnasium env and the world node's message writer.
+Each side runs in its own process and reports the signatures its kernels hold, which numba
+fills whether it compiles or loads from the cache (warm after scripts/setup)."""
 import json
 import subprocess
 import sys
@@ -28,6 +29,15 @@ import gymnasium, econet_ros.gym
 env = gymnasium.make("econet_ros/Reach-v0")
 env.reset(seed=0)
 env.step(env.action_space.sample())
+import numpy as np
+from econet_ros.config import Config
+from econet_ros.lockstep_wire import SensorMessages
+from econet_ros.world import World, sample_setups
+model = Config().model
+world, wire = World(3, model), SensorMessages(3, model.visual_units)
+world.reset(sample_setups(np.random.default_rng(0), 3, model))
+wire.write(world, 0, False)
+wire.step(world, np.full((3, 5), 0.5), 0, False)
 sys.path.insert(0, sys.argv[2])
 from compile_kernels import compiled_signatures
 print(json.dumps(compiled_signatures()))
