@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from .controllers import Controller, forward_block
-from .world import N_MOTOR, TrialSetup, World, arm_geometry, hand_object_gap, move, sense
+from .world import N_MOTOR, TrialSetup, World, move, sense
 
 
 @dataclass
@@ -115,6 +115,12 @@ class BehaviourRecord:
     def value(self, name: str) -> np.ndarray:
         return self.values[CYCLE_VALUES.index(name)]
 
+    def take(self, envs: np.ndarray) -> "BehaviourRecord":
+        """The record of a subset of environments."""
+        return BehaviourRecord(self.pre_contact[:, envs], self.fixated[:, envs],
+                               self.values[:, :, envs], self.counts[:, envs],
+                               self.angle_high[:, envs], self.angle_low[:, envs])
+
     def count(self, name: str) -> np.ndarray:
         return self.counts[PRE_CONTACT_COUNTS.index(name)]
 
@@ -192,23 +198,23 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
 
 
 @numba.njit(cache=True, inline="always")
-def _record_row(row, i, b, s, e, ox, oy, touching, seen, geo, t_body, t_shoulder, t_elbow,
+def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, t_body, t_shoulder, t_elbow,
                 t_hand, t_gap, t_touch, t_fixated):
-    tx, ty = arm_geometry(b, s, e, geo)[4:]
+    """Write state row ``row`` of environment i into the trace (gap, hand tip: from sense)."""
     t_body[row, i], t_shoulder[row, i], t_elbow[row, i] = b, s, e
-    t_hand[row, i, 0], t_hand[row, i, 1] = tx, ty
-    t_gap[row, i] = max(hand_object_gap(b, s, e, ox, oy, geo), 0.0)
+    t_hand[row, i, 0], t_hand[row, i, 1] = hx, hy
+    t_gap[row, i] = max(gap, 0.0)
     t_touch[row, i], t_fixated[row, i] = touching, seen
 
 
 @numba.njit(cache=True, inline="always")
-def _tally_row(t, i, m, b, s, e, ox, oy, touching, seen, motor, geo, last_angles, last_hand,
+def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_hand,
                last_gap, touched, pre_contact, fixated, values, counts, high, low):
     """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
     cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
-    carry row t - 1 and the contact so far from one row to the next."""
-    hx, hy = arm_geometry(b, s, e, geo)[4:]
-    gap = max(hand_object_gap(b, s, e, ox, oy, geo), 0.0)
+    carry row t - 1 and the contact so far from one row to the next; gap and hand tip come from
+    sense."""
+    gap = max(gap, 0.0)
     angles = (b, s, e)
     if t > 0:
         c = t - 1
@@ -278,20 +284,18 @@ def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edg
                                                           body_start[i])
                     if record:
                         t_motor[t - 1, i, :] = motor
-                seen = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1],
-                             geo, edge_x, edge_y, senses)
+                seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0],
+                                          object_xy[i, 1], geo, edge_x, edge_y, senses)
                 buffer[:n_inputs, m] = senses
                 touching = senses[n_inputs - 1] > 0.5
                 if t > 0:
                     contact[t - 1, i] = touching
                 if record:
-                    _record_row(t, i, body[i], shoulder[i], elbow[i], object_xy[i, 0],
-                                object_xy[i, 1], touching, seen, geo, t_body, t_shoulder,
-                                t_elbow, t_hand, t_gap, t_touch, t_fixated)
+                    _record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
+                                t_body, t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated)
                 if behaviour:
-                    _tally_row(t, i, m, body[i], shoulder[i], elbow[i], object_xy[i, 0],
-                               object_xy[i, 1], touching, seen, motor, geo, last_angles,
-                               last_hand, last_gap, touched, b_pre_contact, b_fixated, b_values,
-                               b_counts, b_high, b_low)
+                    _tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx,
+                               hy, motor, last_angles, last_hand, last_gap, touched,
+                               b_pre_contact, b_fixated, b_values, b_counts, b_high, b_low)
             if t < cycles and not use_table:
                 forward_block(buffer[:, :], weights[k], layers, total)

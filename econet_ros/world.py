@@ -347,14 +347,19 @@ def arm_geometry(body, shoulder, elbow, geo):
     """Elbow, hand-base and hand-tip coordinates of one arm in the workspace."""
     ex, ey, bx, by, tx, ty, _ = arm_in_eye_frame(shoulder, elbow, geo)
     c, s = cos_sin_deg(body)
-    return (ex * c - ey * s, ex * s + ey * c, bx * c - by * s, bx * s + by * c,
-            tx * c - ty * s, tx * s + ty * c)
+    return from_eye_frame(ex, ey, c, s) + from_eye_frame(bx, by, c, s) + \
+        from_eye_frame(tx, ty, c, s)
 
 
 @numba.njit(cache=True, inline="always")
-def to_eye_frame(x, y, body):
-    """A workspace point in the eye's frame of a body axis at ``body`` degrees."""
-    c, s = cos_sin_deg(body)
+def from_eye_frame(x, y, c, s):
+    """A point of the eye's frame in the workspace; (c, s): the body axis' cosine and sine."""
+    return x * c - y * s, x * s + y * c
+
+
+@numba.njit(cache=True, inline="always")
+def to_eye_frame(x, y, c, s):
+    """A workspace point in the eye's frame; (c, s): the body axis' cosine and sine."""
     return x * c + y * s, -x * s + y * c
 
 
@@ -372,7 +377,8 @@ def hand_gap(bx, by, tx, ty, ox, oy, radius):
 def hand_object_gap(body, shoulder, elbow, ox, oy, geo):
     """hand_gap of one arm and its object, computed in the eye's frame as ``sense`` does."""
     _, _, bx, by, tx, ty, _ = arm_in_eye_frame(shoulder, elbow, geo)
-    cx, cy = to_eye_frame(ox, oy, body)
+    c, s = cos_sin_deg(body)
+    cx, cy = to_eye_frame(ox, oy, c, s)
     return hand_gap(bx, by, tx, ty, cx, cy, geo.radius)
 
 
@@ -524,19 +530,23 @@ def _edge_at(angle, geo, n_windows):
 
 @numba.njit(cache=True, inline="always")
 def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
-    """Write one environment's network input [vision, proprioception, touch] into ``senses``
-    and return whether the object is fixated (the nearest thing in at least one window)."""
+    """Write one environment's network input [vision, proprioception, touch] into ``senses``.
+    Returns whether the object is fixated (the nearest thing in at least one window) and, found
+    on the way, the hand-object gap (hand_object_gap) and the hand tip in the workspace
+    (arm_geometry), which traces and behaviour records keep."""
     n_units, per_unit = geo.visual_units, geo.windows_per_unit
     n_windows = n_units * per_unit
     # Everything in the eye's frame: x along the body axis, the field spans [-32, +32] degrees.
     _, _, px, py, qx, qy, tip_angle = arm_in_eye_frame(shoulder, elbow, geo)
-    cx, cy = to_eye_frame(ox, oy, body)
+    body_cos, body_sin = cos_sin_deg(body)
+    cx, cy = to_eye_frame(ox, oy, body_cos, body_sin)
+    gap = hand_gap(px, py, qx, qy, cx, cy, geo.radius)
 
     senses[n_units] = shoulder / geo.joint_max
     senses[n_units + 1] = 1.0 - senses[n_units]
     senses[n_units + 2] = elbow / geo.joint_max
     senses[n_units + 3] = 1.0 - senses[n_units + 2]
-    senses[n_units + 4] = 1.0 if hand_gap(px, py, qx, qy, cx, cy, geo.radius) <= 0.0 else 0.0
+    senses[n_units + 4] = 1.0 if gap <= 0.0 else 0.0
     dx, dy = qx - px, qy - py
 
     # The windows each shape can touch: none if it lies wholly beyond one edge of the field
@@ -616,14 +626,15 @@ def sense(body, shoulder, elbow, ox, oy, geo, edge_x, edge_y, senses):
                 senses[w // per_unit] += max(1.0 - nearest / geo.visual_range, 0.0) / per_unit
                 if near_obj <= near_hand:
                     seen = True
-    return seen
+    hand_x, hand_y = from_eye_frame(qx, qy, body_cos, body_sin)
+    return seen, gap, hand_x, hand_y
 
 
 @numba.njit(cache=True, parallel=True)
 def _sense_batch(body, shoulder, elbow, object_xy, geo, edge_x, edge_y, senses, fixated):
     for i in numba.prange(body.shape[0]):
         fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
-                           edge_x, edge_y, senses[i])
+                           edge_x, edge_y, senses[i])[0]
 
 
 @numba.njit(cache=True, parallel=True)
@@ -656,4 +667,4 @@ def step_env(i, body, shoulder, elbow, motor, object_xy, geo, edge_x, edge_y, se
                                           motor[i, 1], motor[i, 2], motor[i, 3], motor[i, 4],
                                           geo, body_start[i])
     fixated[i] = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0], object_xy[i, 1], geo,
-                       edge_x, edge_y, senses[i])
+                       edge_x, edge_y, senses[i])[0]
