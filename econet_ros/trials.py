@@ -76,15 +76,14 @@ MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by
 # can be pooled in the order a Trace pools them) and tallies per environment over its
 # pre-contact cycles (counts are exact in any order). science/measures.py defines each one.
 CYCLE_VALUES = ("shoulder", "elbow", "shoulder_flexor", "shoulder_extensor", "elbow_flexor",
-                "elbow_extensor", "hand_speed", "eye_speed")
+                "elbow_extensor", "eye_speed")
 PRE_CONTACT_COUNTS = ("cycles", "shoulder_flexion", "elbow_flexion", "body_moving",
                       "shoulder_moving", "elbow_moving", "shoulder_cocontraction",
                       "shoulder_corelaxation", "elbow_cocontraction", "elbow_corelaxation",
                       "fixated", "approach_fixated", "approach_unfixated", "away_fixated",
                       "away_unfixated")
-_SHOULDER, _ELBOW, _MOTOR, _HAND_SPEED, _EYE_SPEED = (
-    CYCLE_VALUES.index(name) for name in ("shoulder", "elbow", "shoulder_flexor", "hand_speed",
-                                          "eye_speed"))
+_SHOULDER, _ELBOW, _MOTOR, _EYE_SPEED = (
+    CYCLE_VALUES.index(name) for name in ("shoulder", "elbow", "shoulder_flexor", "eye_speed"))
 (_CYCLES, _FLEXION, _MOVING, _BOTH, _FIXATED, _APPROACH, _AWAY) = (
     PRE_CONTACT_COUNTS.index(name) for name in (
         "cycles", "shoulder_flexion", "body_moving", "shoulder_cocontraction", "fixated",
@@ -100,26 +99,41 @@ class BehaviourRecord:
     pre_contact: np.ndarray     # (C, n) bool: no contact in the trial up to the cycle's start
     fixated: np.ndarray         # (C, n) bool: object fixated at the cycle's start
     values: np.ndarray          # (len(CYCLE_VALUES), C, n): angles at the start, muscle outputs,
-                                #   hand and eye speed (as in measures.hand_speed, eye_speed)
+                                #   eye speed (as in measures.eye_speed)
+    hand: np.ndarray            # (C+1, n, 2) hand-tip position, as in a Trace: the hand speed
+                                #   (a libm hypot) is worked out only for the environments asked
     counts: np.ndarray          # (len(PRE_CONTACT_COUNTS), n) pre-contact cycles with each event
     angle_high: np.ndarray      # (3, n) highest body, shoulder, elbow angle and
     angle_low: np.ndarray       # (3, n) lowest, over the states pre-contact cycles touch
 
     @classmethod
     def empty(cls, cycles: int, n: int) -> "BehaviourRecord":
-        return cls(np.zeros((cycles, n), dtype=bool), np.zeros((cycles, n), dtype=bool),
-                   np.zeros((len(CYCLE_VALUES), cycles, n)),
+        """A record to fill. The compiled loop writes every element of the per-cycle arrays, so
+        they are not zeroed first (that costs about 1 ms of a 25 ms paper-size generation)."""
+        return cls(np.empty((cycles, n), dtype=bool), np.empty((cycles, n), dtype=bool),
+                   np.empty((len(CYCLE_VALUES), cycles, n)), np.empty((cycles + 1, n, 2)),
                    np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
                    np.full((3, n), -np.inf), np.full((3, n), np.inf))
 
     def value(self, name: str) -> np.ndarray:
         return self.values[CYCLE_VALUES.index(name)]
 
-    def take(self, envs: np.ndarray) -> "BehaviourRecord":
-        """The record of a subset of environments."""
-        return BehaviourRecord(self.pre_contact[:, envs], self.fixated[:, envs],
-                               self.values[:, :, envs], self.counts[:, envs],
-                               self.angle_high[:, envs], self.angle_low[:, envs])
+    def pooled(self, top: np.ndarray) -> dict[str, np.ndarray]:
+        """The sequences the behaviour row averages, each in the order a boolean mask over
+        (cycle, environment) selects them (so NumPy sums them as it sums a Trace's), gathered
+        in one compiled pass: ``all_*`` over every environment's pre-contact cycles, ``top_*``
+        over those of the environments ``top`` (ascending); the top group's hand and eye speeds
+        ``*_fix`` / ``*_nofix`` over its pre-contact cycles with / without fixation,
+        ``*_fix_allcyc`` over all its fixated cycles."""
+        every, group, speeds, lengths = _gather_pooled(self.pre_contact, self.fixated,
+                                                       self.values, self.hand, top)
+        found = {f"all_{name}": every[j, :lengths[0]]
+                 for j, name in enumerate(("shoulder", "elbow"))}
+        found |= {f"top_{name}": group[j, :lengths[1]] for j, name in enumerate(CYCLE_VALUES[:6])}
+        found |= {f"top_{kind}_speed_{when}": speeds[w, k, :lengths[2 + w]]
+                  for w, when in enumerate(("fix", "nofix", "fix_allcyc"))
+                  for k, kind in enumerate(("hand", "eye"))}
+        return found
 
     def count(self, name: str) -> np.ndarray:
         return self.counts[PRE_CONTACT_COUNTS.index(name)]
@@ -208,8 +222,8 @@ def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, t_body, t_shoulder
 
 
 @numba.njit(cache=True, inline="always")
-def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_hand,
-               last_gap, touched, pre_contact, fixated, values, counts, high, low):
+def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_gap,
+               touched, pre_contact, fixated, values, hand, counts, high, low):
     """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
     cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
     carry row t - 1 and the contact so far from one row to the next; gap and hand tip come from
@@ -218,7 +232,6 @@ def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles
     angles = (b, s, e)
     if t > 0:
         c = t - 1
-        values[_HAND_SPEED, c, i] = math.hypot(hx - last_hand[m, 0], hy - last_hand[m, 1])
         values[_EYE_SPEED, c, i] = abs(b - last_angles[m, 0])
         for u in range(4):
             values[_MOTOR + u, c, i] = motor[1 + u]
@@ -249,14 +262,54 @@ def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles
         values[_SHOULDER, t, i], values[_ELBOW, t, i] = s, e
     for j in range(3):
         last_angles[m, j] = angles[j]
-    last_hand[m, 0], last_hand[m, 1], last_gap[m] = hx, hy, gap
+    hand[t, i, 0], hand[t, i, 1], last_gap[m] = hx, hy, gap
+
+
+@numba.njit(cache=True)
+def _gather_pooled(pre_contact, fixated, values, hand, top):
+    """BehaviourRecord.pooled's pass: row-major over (cycle, environment), as masks select.
+    speeds[w] holds (hand, eye) speeds of the top group's cycles w: 0 pre-contact fixated,
+    1 pre-contact unfixated, 2 fixated."""
+    cycles, n = pre_contact.shape
+    every = np.empty((2, cycles * n))
+    group = np.empty((6, cycles * len(top)))
+    speeds = np.empty((3, 2, cycles * len(top)))
+    n_every = n_group = n_fixated = n_unfixated = n_all_fixated = 0
+    for c in range(cycles):
+        for i in range(n):
+            if pre_contact[c, i]:
+                every[0, n_every], every[1, n_every] = values[_SHOULDER, c, i], \
+                    values[_ELBOW, c, i]
+                n_every += 1
+        for i in top:
+            pre, fix = pre_contact[c, i], fixated[c, i]
+            if not (pre or fix):
+                continue
+            hand_speed = math.hypot(hand[c + 1, i, 0] - hand[c, i, 0],
+                                    hand[c + 1, i, 1] - hand[c, i, 1])
+            eye_speed = values[_EYE_SPEED, c, i]
+            if pre:
+                for j in range(6):
+                    group[j, n_group] = values[j, c, i]
+                n_group += 1
+                if fix:
+                    speeds[0, 0, n_fixated], speeds[0, 1, n_fixated] = hand_speed, eye_speed
+                    n_fixated += 1
+                else:
+                    speeds[1, 0, n_unfixated], speeds[1, 1, n_unfixated] = hand_speed, eye_speed
+                    n_unfixated += 1
+            if fix:
+                speeds[2, 0, n_all_fixated], speeds[2, 1, n_all_fixated] = hand_speed, eye_speed
+                n_all_fixated += 1
+    return every, group, speeds, np.array([n_every, n_group, n_fixated, n_unfixated,
+                                           n_all_fixated])
 
 
 @numba.njit(cache=True, parallel=True)
 def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights,
                   block, layers, buffer_size, motor_table, use_table, contact, record, t_body,
                   t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor, behaviour,
-                  b_pre_contact, b_fixated, b_values, b_counts, b_high, b_low):
+                  b_pre_contact, b_fixated, b_values, b_hand, b_counts, b_high, b_low):
     """Whole trials for each block of environments that share one network: sense, choose
     outputs, move, repeat. Activations are (units, envs of the block), as in forward_block."""
     n_inputs = geo.visual_units + 5
@@ -269,7 +322,7 @@ def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edg
         total = np.zeros(block)
         senses = np.zeros(n_inputs)
         motor = np.zeros(N_MOTOR)
-        last_angles, last_hand = np.zeros((block, 3)), np.zeros((block, 2))
+        last_angles = np.zeros((block, 3))
         last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
         for t in range(cycles + 1):
             for m in range(block):
@@ -295,7 +348,7 @@ def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edg
                                 t_body, t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated)
                 if behaviour:
                     _tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx,
-                               hy, motor, last_angles, last_hand, last_gap, touched,
-                               b_pre_contact, b_fixated, b_values, b_counts, b_high, b_low)
+                               hy, motor, last_angles, last_gap, touched, b_pre_contact,
+                               b_fixated, b_values, b_hand, b_counts, b_high, b_low)
             if t < cycles and not use_table:
                 forward_block(buffer[:, :], weights[k], layers, total)

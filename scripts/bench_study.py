@@ -10,6 +10,7 @@ both alike.
 from __future__ import annotations
 
 import argparse
+import statistics
 import tempfile
 import time
 from pathlib import Path
@@ -45,8 +46,10 @@ def main() -> None:
     for name, times in seconds.items():
         print(f"{name:6s} " + "  ".join(f"{t:.2f} s" for t in times))
     ratios = [s / b for s, b in zip(seconds["study"], seconds["bare"])]
-    print("study / bare: " + "  ".join(f"{r:.2f}" for r in ratios) +
-          f"  (best times: {min(seconds['study']) / min(seconds['bare']):.2f})")
+    print("study / bare: " + "  ".join(f"{r:.2f}" for r in ratios))
+    print(f"study / bare: median {statistics.median(ratios):.2f}, range {min(ratios):.2f}-"
+          f"{max(ratios):.2f} over {len(ratios)} pairs; best times "
+          f"{min(seconds['study']) / min(seconds['bare']):.2f}")
 
 
 def timed(way) -> float:

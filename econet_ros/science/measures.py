@@ -243,15 +243,11 @@ def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, gen
                            top: np.ndarray, trials: int) -> dict:
     """behaviour_row from a BehaviourRecord and the trials' measures (any shape, environments in
     order): the pre-contact counts are summed over the group's environments, the per-cycle
-    values pooled over the same cycles, in the same order, as behaviour_row pools them. The top
-    econets' values are pooled from their own columns, taken in order (the same elements in the
-    same order as the whole record masked to them, at a fifth of the cost)."""
+    values pooled over the same cycles, in the same order, as behaviour_row pools them
+    (BehaviourRecord.pooled)."""
     envs = np.zeros(record.pre_contact.shape[1], dtype=bool)
     envs[econet_envs(top, trials)] = True
-    pre = record.pre_contact
-    top_record = record.take(np.flatnonzero(envs))
-    top_pre, top_fix = top_record.pre_contact, top_record.fixated
-    top_value = top_record.value
+    pooled = record.pooled(np.flatnonzero(envs))
     cycles, fixated = record.count("cycles"), record.count("fixated")
 
     def share(name: str, group: np.ndarray | slice, of: np.ndarray) -> float:
@@ -259,11 +255,8 @@ def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, gen
         return float(record.count(name)[group].sum() / total) if total else float("nan")
 
     def deviations(joint: str) -> tuple[float, float]:
-        f, e = (top_value(f"{joint}_{m}")[top_pre] for m in ("flexor", "extensor"))
+        f, e = (pooled[f"top_{joint}_{m}"] for m in ("flexor", "extensor"))
         return _mean(coactivation_deviation(f, e)), _mean(reciprocal_deviation(f, e))
-
-    def speed(kind: str, mask: np.ndarray) -> float:
-        return _pooled(top_value(f"{kind}_speed"), mask)
 
     def excursion_of(j: int) -> float:
         counted = cycles > 0
@@ -283,11 +276,11 @@ def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, gen
         "generation": generation,
         "all_shoulder_flexion": 100.0 * share("shoulder_flexion", everything, cycles),
         "all_elbow_flexion": 100.0 * share("elbow_flexion", everything, cycles),
-        "all_shoulder_angle": _pooled(record.value("shoulder"), pre),
-        "all_elbow_angle": _pooled(record.value("elbow"), pre),
+        "all_shoulder_angle": _mean(pooled["all_shoulder"]),
+        "all_elbow_angle": _mean(pooled["all_elbow"]),
         "top_shoulder_flexion": 100.0 * share("shoulder_flexion", envs, cycles),
         "top_elbow_flexion": 100.0 * share("elbow_flexion", envs, cycles),
-        "top_shoulder_angle": _pooled(top_value("shoulder"), top_pre),
+        "top_shoulder_angle": _mean(pooled["top_shoulder"]),
         "top_shoulder_coact": s_co, "top_shoulder_recip": s_re,
         "top_elbow_coact": e_co, "top_elbow_recip": e_re,
         "top_approach_fix": share("approach_fixated", envs, fixated),
@@ -296,12 +289,9 @@ def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, gen
         "top_away_nofix": share("away_unfixated", envs, unfixated),
         "top_fix_cycles": int(fixated[envs].sum()),
         "top_nofix_cycles": int(unfixated[envs].sum()),
-        "top_hand_speed_fix": speed("hand", top_pre & top_fix),
-        "top_eye_speed_fix": speed("eye", top_pre & top_fix),
-        "top_hand_speed_nofix": speed("hand", top_pre & ~top_fix),
-        "top_eye_speed_nofix": speed("eye", top_pre & ~top_fix),
-        "top_hand_speed_fix_allcyc": speed("hand", top_fix),
-        "top_eye_speed_fix_allcyc": speed("eye", top_fix),
+        **{name: _mean(pooled[name]) for name in (
+            "top_hand_speed_fix", "top_eye_speed_fix", "top_hand_speed_nofix",
+            "top_eye_speed_nofix", "top_hand_speed_fix_allcyc", "top_eye_speed_fix_allcyc")},
         "top_latency_success": latency(envs),
         "all_latency_success": latency(everything),
         **{f"all_{joint}_moving": share(f"{joint}_moving", everything, cycles)
