@@ -115,9 +115,6 @@ class BehaviourRecord:
                    np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
                    np.full((3, n), -np.inf), np.full((3, n), np.inf))
 
-    def value(self, name: str) -> np.ndarray:
-        return self.values[CYCLE_VALUES.index(name)]
-
     def pooled(self, top: np.ndarray) -> dict[str, np.ndarray]:
         """The sequences the behaviour row averages, each in the order a boolean mask over
         (cycle, environment) selects them (so NumPy sums them as it sums a Trace's), gathered
