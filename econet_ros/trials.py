@@ -122,8 +122,13 @@ class BehaviourRecord:
         over those of the environments ``top`` (ascending); the top group's hand and eye speeds
         ``*_fix`` / ``*_nofix`` over its pre-contact cycles with / without fixation,
         ``*_fix_allcyc`` over all its fixated cycles."""
-        every, group, speeds, lengths = _gather_pooled(self.pre_contact, self.fixated,
-                                                       self.values, self.hand, top)
+        cycles, n = self.pre_contact.shape
+        # NumPy's buffers, not the kernel's: memory the kernel allocates comes fresh from the
+        # system on every call, and its page faults cost 5 ms of a 7 ms pass.
+        every, group = np.empty((2, cycles * n)), np.empty((6, cycles * len(top)))
+        speeds = np.empty((3, 2, cycles * len(top)))
+        lengths = _gather_pooled(self.pre_contact, self.fixated, self.values, self.hand, top,
+                                 every, group, speeds)
         found = {f"all_{name}": every[j, :lengths[0]]
                  for j, name in enumerate(("shoulder", "elbow"))}
         found |= {f"top_{name}": group[j, :lengths[1]] for j, name in enumerate(CYCLE_VALUES[:6])}
@@ -263,14 +268,11 @@ def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles
 
 
 @numba.njit(cache=True)
-def _gather_pooled(pre_contact, fixated, values, hand, top):
+def _gather_pooled(pre_contact, fixated, values, hand, top, every, group, speeds):
     """BehaviourRecord.pooled's pass: row-major over (cycle, environment), as masks select.
     speeds[w] holds (hand, eye) speeds of the top group's cycles w: 0 pre-contact fixated,
-    1 pre-contact unfixated, 2 fixated."""
+    1 pre-contact unfixated, 2 fixated. Returns how many of each it wrote."""
     cycles, n = pre_contact.shape
-    every = np.empty((2, cycles * n))
-    group = np.empty((6, cycles * len(top)))
-    speeds = np.empty((3, 2, cycles * len(top)))
     n_every = n_group = n_fixated = n_unfixated = n_all_fixated = 0
     for c in range(cycles):
         for i in range(n):
@@ -298,8 +300,7 @@ def _gather_pooled(pre_contact, fixated, values, hand, top):
             if fix:
                 speeds[2, 0, n_all_fixated], speeds[2, 1, n_all_fixated] = hand_speed, eye_speed
                 n_all_fixated += 1
-    return every, group, speeds, np.array([n_every, n_group, n_fixated, n_unfixated,
-                                           n_all_fixated])
+    return np.array([n_every, n_group, n_fixated, n_unfixated, n_all_fixated])
 
 
 @numba.njit(cache=True, parallel=True)
