@@ -3,7 +3,8 @@
 as ``econet study`` evolves them (science.study.run_with_behaviour: behaviour.csv included) over
 the time of the same generations evolved as ``econet evolve`` does (runs.evolve_into), same
 seed and settings, warm kernels, alternated within one process so that a busy machine slows
-both alike.
+both alike. The default is whole paper-size runs (200 generations, about 15 s a pair), the
+figure the target is about; the first few generations of a run are not a sample of it.
 
     . scripts/env.sh && python scripts/bench_study.py [--generations N] [--repeats R]
 """
@@ -25,7 +26,7 @@ from econet_ros.science.study import run_with_behaviour
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--generations", type=int, default=5,
+    parser.add_argument("--generations", type=int, default=200,
                         help="paper-size generations per timing (default: %(default)s)")
     parser.add_argument("--repeats", type=int, default=3, help="timings each way")
     parser.add_argument("--condition", choices=CONDITIONS, default="normal")
