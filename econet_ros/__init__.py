@@ -18,7 +18,7 @@ _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # any change start a fresh cache (tests/core/test_layout.py checks that this list names
 # every module with a kernel). An explicit NUMBA_CACHE_DIR is respected.
 KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "trials.py",
-                  "lockstep_wire.py")
+                  "nodes/lockstep_wire.py")
 
 
 def _kernel_cache_dir(package: _Path = _Path(__file__).parent) -> str:

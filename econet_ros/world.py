@@ -276,7 +276,7 @@ class World:
     def step_with(self, kernel, motor: np.ndarray, *extra) -> Observation:
         """``step`` with another kernel of ``_step_batch``'s arguments and ``extra`` ones, which
         advances the cycle as ``_step_batch`` does and writes its senses elsewhere too (the
-        sensor messages' bytes: econet_ros.lockstep_wire), in the same launch."""
+        sensor messages' bytes: econet_ros.nodes.lockstep_wire), in the same launch."""
         motor = np.asarray(motor, dtype=np.float64)
         if motor.shape != (self.n_envs, N_MOTOR):
             raise ActionError(f"motor command must have shape ({self.n_envs}, {N_MOTOR}), "

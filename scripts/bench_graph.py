@@ -68,7 +68,7 @@ def paper_cycle(n_envs: int):
     (lockstep_wire), and a muscle command for it."""
     import numpy as np
     from econet_ros.config import Config
-    from econet_ros.lockstep_wire import CommandMessage, SensorMessages
+    from econet_ros.nodes.lockstep_wire import CommandMessage, SensorMessages
     from econet_ros.world import N_MOTOR, World, sample_setups
 
     model = Config().model

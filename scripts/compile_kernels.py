@@ -29,7 +29,7 @@ import econet_ros
 from econet_ros import KERNEL_MODULES
 from econet_ros.config import CONDITIONS, Config
 from econet_ros.evolution import Evaluator
-from econet_ros.lockstep_wire import SensorMessages
+from econet_ros.nodes.lockstep_wire import SensorMessages
 from econet_ros.plugins import make_controller
 from econet_ros.runs import evolve_into
 from econet_ros.science.study import run_with_behaviour

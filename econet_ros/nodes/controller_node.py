@@ -16,7 +16,7 @@ from rclpy.node import Node
 
 from ..config import Config
 from ..errors import ConfigError, PluginError
-from ..lockstep_wire import CommandMessage, SensorMessages
+from .lockstep_wire import CommandMessage, SensorMessages
 from ..plugins import resolve
 from ..topics import COMMAND, MAX_ENVS, SENSORS, observation_from_fields, sensor_problem
 from ..world import World

@@ -20,9 +20,10 @@ from rclpy.node import Node
 
 from ..errors import ConfigError
 from ..recording import display
-from ..recording.bags import BagWriter, header
+from ..recording.bags import BagWriter
 from ..topics import DISPLAY, LOCKSTEP, RECORDED, TF_STATIC, TOPICS
 from . import graph
+from .wire import trial_and_cycle
 
 ALL_TOPICS = RECORDED
 FLUSH_SEC = 0.5
@@ -91,7 +92,7 @@ class TopicRecorder:
                     self.framed = True
                 self._write(topic, now, data)
             return
-        trial = header(data)[0]
+        trial = trial_and_cycle(data)[0]
         if trial < self.min_trial:
             return
         if topic == "trial_start":

@@ -23,6 +23,16 @@ from ..errors import WireError
 
 HEADER = b"\x00\x01\x00\x00"      # encapsulation: plain CDR, little endian
 
+_TRIAL_AND_CYCLE = struct.Struct("<II")
+
+
+def trial_and_cycle(data) -> tuple[int, int]:
+    """(trial, cycle) of a serialized econet sensor or command message, without decoding it:
+    both are the first two uint32 fields, right after the CDR header (little-endian assumed,
+    as every ROS 2 middleware here writes). For TrialStart: (trial, cycles)."""
+    return _TRIAL_AND_CYCLE.unpack_from(data, len(HEADER))
+
+
 _NUMBERS = {
     "boolean": np.dtype(np.bool_), "octet": np.dtype(np.uint8), "uint8": np.dtype(np.uint8),
     "int8": np.dtype(np.int8), "uint16": np.dtype("<u2"), "int16": np.dtype("<i2"),

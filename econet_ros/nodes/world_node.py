@@ -23,7 +23,7 @@ from rclpy.node import Node
 from econet_msgs.msg import TrialStart
 
 from ..errors import ConfigError, SetupError
-from ..lockstep_wire import CommandMessage, SensorMessages
+from .lockstep_wire import CommandMessage, SensorMessages
 from ..recording import display
 from ..topics import COMMAND, FRAME, MAX_ENVS, SENSORS, trial_start_fields
 from ..world import N_MOTOR, Observation, TrialSetup, World, check_setup, sample_setups

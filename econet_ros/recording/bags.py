@@ -24,7 +24,6 @@ without the interface package (``ros2 bag play`` needs econet_msgs installed).
 """
 from __future__ import annotations
 
-import struct
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,13 +40,6 @@ from . import display
 from .messages import message, serialize, typestore
 
 BAG_VERSION = 9    # Jazzy/Kilted metadata.yaml (Humble cannot open it; see docs)
-
-
-def header(data) -> tuple[int, int]:
-    """(trial, cycle) of a serialized econet sensor or command message, without decoding it:
-    both are the first two uint32 fields, right after the 4-byte CDR header (little-endian
-    assumed, as every ROS 2 middleware here writes). For TrialStart: (trial, cycles)."""
-    return struct.unpack_from("<II", data, 4)
 
 
 # -- writing ----------------------------------------------------------------------------------

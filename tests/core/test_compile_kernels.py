@@ -31,7 +31,7 @@ env.reset(seed=0)
 env.step(env.action_space.sample())
 import numpy as np
 from econet_ros.config import Config
-from econet_ros.lockstep_wire import SensorMessages
+from econet_ros.nodes.lockstep_wire import SensorMessages
 from econet_ros.world import World, sample_setups
 model = Config().model
 world, wire = World(3, model), SensorMessages(3, model.visual_units)

@@ -1,13 +1,13 @@
 """The lockstep messages written and read with numpy (econet_ros.nodes.wire), and written in place
-by the nodes' kernels (econet_ros.lockstep_wire), are the bytes rclpy itself reads and writes."""
+by the nodes' kernels (econet_ros.nodes.lockstep_wire), are the bytes rclpy itself reads and writes."""
 import numpy as np
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 
 from econet_msgs.msg import MuscleCommand, Proprioception, Retina, Touch
 from econet_ros.config import Config
-from econet_ros.lockstep_wire import FIELDS, CommandMessage, SensorMessages
-from econet_ros.nodes.wire import Codec, WireError
+from econet_ros.nodes.lockstep_wire import FIELDS, CommandMessage, SensorMessages
+from econet_ros.nodes.wire import Codec, WireError, trial_and_cycle
 from econet_ros.topics import COMMAND, SENSORS, command_fields, sensor_fields
 from econet_ros.world import World, sample_setups
 
@@ -61,6 +61,12 @@ def test_truncated_or_foreign_bytes_are_wire_errors():
         codec.decode(b"\x00\x00\x00\x00" + data[4:])
 
 
+@pytest.mark.parametrize("msg_type", LOCKSTEP, ids=lambda t: t.__name__)
+def test_trial_and_cycle_read_without_decoding_match_rclpy(msg_type):
+    msg = msg_type(trial=70001, cycle=99, n_envs=2)
+    assert trial_and_cycle(serialize_message(msg)) == (70001, 99)
+
+
 def test_arrays_are_written_row_major_whatever_their_memory_layout():
     """The world hands over views (the retina is a column slice of its sense array) and bools
     for uint8 fields; both must reach the wire as the row-major values rclpy would send."""
@@ -74,7 +80,7 @@ def test_arrays_are_written_row_major_whatever_their_memory_layout():
     assert data == serialize_message(msg)
 
 
-# -- the bytes the nodes write in place (econet_ros.lockstep_wire) -------------------------------
+# -- the bytes the nodes write in place (econet_ros.nodes.lockstep_wire) -------------------------------
 def test_the_in_place_layout_lists_the_fields_of_the_generated_classes():
     for part, msg_type in zip((*SENSORS, COMMAND), LOCKSTEP):
         ours = [(name, np.dtype(code.removesuffix("[]")), code.endswith("[]"))

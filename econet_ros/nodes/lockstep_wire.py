@@ -1,11 +1,12 @@
 """The lockstep messages' bytes, written in place: the world steps all its environments and
 writes the cycle's three sensor messages (Retina, Proprioception, Touch) in one compiled launch,
 and the controller writes its MuscleCommand into a reused buffer, instead of building arrays and
-serialising them field by field (nodes/wire.Codec, which stays the reference and reads messages).
+serialising them field by field (wire.Codec, which stays the reference and reads messages).
 
 The layout is what the messages' .msg files give on the wire (plain CDR, little endian, as
 rmw_fastrtps writes it): FIELDS lists their fields in .msg order, and a test checks it against
-the generated classes and these bytes against Codec's. ROS-free: the nodes publish the bytes.
+the generated classes and these bytes against Codec's. ROS-free (no rclpy here): the nodes
+publish the bytes.
 """
 from __future__ import annotations
 
@@ -14,10 +15,9 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .topics import COMMAND, SENSORS
-from .world import N_MOTOR, N_PROPRIO, Observation, World, all_finite, step_env
-
-HEADER = b"\x00\x01\x00\x00"      # encapsulation: plain CDR, little endian
+from ..topics import COMMAND, SENSORS
+from ..world import N_MOTOR, N_PROPRIO, Observation, World, all_finite, step_env
+from .wire import HEADER
 
 # Each lockstep message's fields in .msg order, as numpy type codes; "[]" marks a sequence.
 FIELDS = {
