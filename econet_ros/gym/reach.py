@@ -128,7 +128,7 @@ class ReachEnv(gymnasium.Env):
     outside -360-360 or a non-finite start raises ``SetupError``.
 
     ## Version History
-    v0: the model of econet_ros 0.1 (issue 15).
+    v0: the model of econet_ros 0.1.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
