@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Benchmark of issue 15's speed targets, in one run:
+"""Benchmark of the Gymnasium vector environment and the other optimizers, in one run:
 
   1. the in-process engine (Evaluator.test_generation: whole trials in one compiled loop, the
      network included) in econet-cycles per second, paper-size generations of 2000 envs;
@@ -9,8 +9,8 @@
   3. a whole run of the same budget under the GA, CMA-ES and the ES (same settings, same seed,
      through runs.evolve_into); target: CMA-ES at most 1.5x the GA's time.
 
-    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench_gym.py
-    ... python scripts/bench_gym.py --repeats 5 --generations 50   # quicker
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_gym.py
+    ... python scripts/bench/bench_gym.py --repeats 5 --generations 50   # quicker
 """
 from __future__ import annotations
 

@@ -1,6 +1,7 @@
+#!/usr/bin/env python3
 """Benchmark: a sweep on local Ray against the same runs done one after another in one process.
 
-    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench_sweep.py [--help]
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_sweep.py [--help]
 
 It builds a sweep of CELLS x SEEDS paper-size runs of the normal condition (cells differ in
 the mutation reading, so every run is distinct), times them as `econet evolve` runs them (one

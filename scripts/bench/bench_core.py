@@ -2,8 +2,8 @@
 """Benchmark of the in-process model core: econet-cycles per second and the time of a full
 paper-size run (100 econets x 20 trials x 100 cycles x 200 generations = 4e7 econet-cycles).
 
-    . scripts/env.sh && python scripts/bench_core.py [--generations N] [--condition normal] [--full]
-    . scripts/env.sh && python scripts/bench_core.py --per-cycle   # the nodes' per-cycle API
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_core.py [--generations N] [--condition normal] [--full]
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_core.py --per-cycle   # the nodes' per-cycle API
 
 It times N paper-size generations after one warm-up generation (which compiles the kernels),
 run as every command runs them (runs.evolve_into, result files included, into a temporary

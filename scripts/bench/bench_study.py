@@ -6,7 +6,7 @@ seed and settings, warm kernels, alternated within one process so that a busy ma
 both alike. The default is whole paper-size runs (200 generations, about 15 s a pair), the
 figure the target is about; the first few generations of a run are not a sample of it.
 
-    . scripts/env.sh && python scripts/bench_study.py [--generations N] [--repeats R]
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_study.py [--generations N] [--repeats R]
 """
 from __future__ import annotations
 

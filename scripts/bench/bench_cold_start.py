@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark of the first command after set-up: does a user still pay for compiling kernels?
 
-    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench_cold_start.py
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_cold_start.py
 
 In an empty kernel cache of its own (NUMBA_CACHE_DIR, so the user's cache is untouched) it times,
 in fresh processes: `econet evolve` with no compiled kernels (what a fresh clone paid before
@@ -19,7 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def timed(args: list[str], env: dict) -> float:

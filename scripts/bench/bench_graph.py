@@ -19,7 +19,7 @@ make, paper size), against the graph's cycle and messaging alone.
 Every process it starts is waited for until it says it is ready (the nodes log "... ready" once
 their kernels are compiled, minutes on a cold numba cache), not for a fixed time.
 
-Run after the set-up:  . scripts/env.sh && python scripts/bench_graph.py [--generations 5]
+Run after the set-up:  . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_graph.py [--generations 5]
 Defaults are paper size: 100 econets x 20 trials (2000 environments) x 100 cycles.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ import threading
 import time
 from pathlib import Path
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 # A process that has not said it is ready after this long has failed: compiling every kernel
 # on a cold numba cache takes 2-3 minutes on a busy two-core machine.
 READY_TIMEOUT_SEC = 900.0
