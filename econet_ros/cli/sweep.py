@@ -20,7 +20,8 @@ def add_parser(commands) -> None:
         "run", help="run (or finish) every run of a sweep specification",
         description="Every (cell, condition, seed) run of SPEC becomes a Ray task; the run "
                     "folders land under --out. Running the same command again skips finished "
-                    "runs and redoes unfinished ones, with byte-identical results.")
+                    "runs and redoes unfinished ones, with byte-identical results, and takes "
+                    "the spec's description and rule into the folder.")
     run.add_argument("spec", metavar="SPEC", help="sweep specification (TOML)")
     run.add_argument("--out", required=True, help="results folder")
     run.add_argument("--address", default=None,
@@ -34,7 +35,8 @@ def add_parser(commands) -> None:
         "report", help="tidy table, paired comparisons, figures and summary of a sweep folder",
         description="Writes DIR/outcomes.csv (one row per run), DIR/comparisons.csv (the "
                     "spec's paired comparisons: mean difference, 95% bootstrap CI, effect size, "
-                    "sign count), DIR/figures/ and DIR/summary.md.")
+                    "sign count), DIR/figures/ and DIR/summary.md, with the sections of the "
+                    "decision rule the spec names (its rule key), if any.")
     report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
     report.set_defaults(handler=_report)
 

@@ -29,8 +29,8 @@ from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
 from .stats import Paired, estimate, share
-from .verdicts import (CONTRADICTED, Criterion, above, below, combine, most_runs, sign_count,
-                       within)
+from .verdicts import (CONTRADICTED, EARLY_AHEAD, MOST, Criterion, above, below, combine,
+                       most_runs, sign_count, within)
 
 SHUFFLES = 20          # time-shuffled nulls per claim
 LEVEL_LIKE = 0.5       # a rule replicating on this share of its shuffled nulls or more cannot
@@ -181,9 +181,6 @@ def against_random(ev: Evidence, column: str, window: slice) -> Paired:
 
 
 # -- overall performance (Figure 3) ---------------------------------------------------------
-EARLY_AHEAD = 0.8      # "from virtually the start": normal ahead early in this share of runs
-
-
 @claim("fitness", PERFORMANCE,
        "Four-layer econets learn faster than three-layer ones, with higher fitness from "
        "virtually the start of training (Fig 3a)",
@@ -292,7 +289,6 @@ def holds_still_early(ev: Evidence) -> Judged:
 # first rules' bounds for its 8 and 9 of 10). Judged by verdicts.most_runs: most runs replicate,
 # a share below the paper's contradicts (held to the paper's share, 10 runs could not replicate).
 ALL_TEN, NINE_OF_TEN, EIGHT_OF_TEN = 0.9, 0.8, 0.7
-MOST = 0.5             # the added claims' "in most runs"
 MOBILE = 0.2           # a joint is mobile when it moves in at least this share of cycles
 STILL = 0.1            # and still when it moves in less than this share
 

@@ -26,11 +26,10 @@ from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import estimate, median
 from .study import ConditionData, StudySpec, load_study, optimizer_only
-from .sweeps import confirm
 from .sweeps.outcomes import tidy_rows
-from .sweeps.regime import defaults_markdown, regime_markdown, verdicts
 from .sweeps.report import build_sweep_report, holding_markdown
-from .sweeps.spec import SweepSpec, load_sweep
+from .sweeps.rules import Swept, choose_defaults, rule_of
+from .sweeps.spec import load_sweep
 from .verdicts import VERDICTS
 
 
@@ -56,10 +55,12 @@ class Analysis:
         return Windows(self.spec.config.evolution.generations)
 
     @functools.cached_property
-    def sweep_tables(self) -> list[tuple[Path, SweepSpec, list[dict]]]:
-        """Each summarised sweep's folder, spec and tidy rows, read once."""
-        return [(folder, spec, tidy_rows(spec, folder)) for folder in self.sweeps
-                for spec in [load_sweep(folder)]]
+    def swept(self) -> list[Swept]:
+        """Each summarised sweep's spec and tidy rows, read once, with where the report
+        publishes its summary (publish_sweep)."""
+        return [Swept(spec, tidy_rows(spec, folder),
+                      os.path.relpath(self.folder / "sweeps" / spec.name, self.folder))
+                for folder in self.sweeps for spec in [load_sweep(folder)]]
 
 
 def report_paths(out: Path, report: Path | None = None, figures: Path | None = None
@@ -521,45 +522,25 @@ def _optimizers(analysis: Analysis) -> list[str]:
 
 
 def _sweeps(analysis: Analysis) -> list[str]:
-    """Each sweep's decision-rule tables (the pre-registered rule's for the sweeps it names) and
-    the path to its own summary; then the choice of defaults, by the confirmatory rule when its
-    sweep is among them, else by the earlier decision rule."""
+    """Each sweep's holding table and its rule's tables, with the path to its own summary;
+    then the choice of defaults by the highest rule the sweeps name (rules.py)."""
     if not analysis.sweeps:
         return []
     lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
              "The decision rules (docs/analysis.md, each committed before the sweeps it judges "
              "ran) applied to each sweep; every sweep's full tables and figures are in its own "
              "summary.\n"]
-    judged = []
-    for _, spec, rows in analysis.sweep_tables:
-        summary = os.path.relpath(analysis.folder / "sweeps" / spec.name / "summary.md",
-                                  analysis.folder)
+    for sweep in analysis.swept:
+        spec, summary = sweep.spec, os.path.join(sweep.published, "summary.md")
         lines += [f"### {spec.name}\n", spec.description + "\n",
                   f"Full tables and figures: [{summary}]({summary})\n"]
         lines += [line.replace("## ", "#### ", 1) for line in
-                  holding_markdown(spec, rows) + confirm.markdown(spec, rows)
-                  + regime_markdown(spec, rows)]
-        if spec.name not in confirm.RULES:
-            judged += verdicts(spec, rows)
-    ruled = _ruled(analysis)
-    if "confirm" not in ruled:
-        return lines + (defaults_markdown(judged) if judged else [])
-    return lines + ["### Choosing the defaults\n",
-                    confirm.defaults_sentence(confirm.decide(*ruled["confirm"])) + "\n"]
-
-
-def _ruled(analysis: Analysis) -> dict[str, tuple]:
-    """The sweeps the pre-registered rule names, by name: (spec, tidy rows)."""
-    return {spec.name: (spec, rows) for _, spec, rows in analysis.sweep_tables
-            if spec.name in confirm.RULES}
+                  holding_markdown(spec, sweep.rows) + rule_of(spec).markdown(sweep)]
+    return lines + choose_defaults(analysis.swept)
 
 
 def _architecture(analysis: Analysis) -> list[str]:
-    """The paper's four- against three-layer comparison and its confound, when the
-    confirmatory sweep is given (econet analyze --sweep)."""
-    ruled = _ruled(analysis)
-    if "confirm" not in ruled:
-        return []
-    figure = os.path.relpath(analysis.folder / "sweeps" / "load-map" / "figures" /
-                             "load_map.png", analysis.folder) if "load-map" in ruled else ""
-    return confirm.architecture(*ruled["confirm"], *ruled.get("load-map", ()), figure=figure)
+    """The paper's four- against three-layer comparison and its confound, from the sweeps
+    whose rule speaks to it (econet analyze --sweep)."""
+    return [line for sweep in analysis.swept
+            for line in rule_of(sweep.spec).architecture(sweep, analysis.swept)]

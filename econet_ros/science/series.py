@@ -1,5 +1,5 @@
 """Per-run series of a study (study.ConditionData) as the claims, figures and report read them:
-generation windows, window means, smoothing and the "mean ± s.d. over runs" format. ROS-free."""
+generation windows, per-run series, smoothing and the report's number format. ROS-free."""
 from __future__ import annotations
 
 import dataclasses
@@ -26,12 +26,6 @@ def nanstd(values, axis=None):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         return np.nanstd(np.asarray(values, dtype=float), axis=axis)
-
-
-def share_below(lower: np.ndarray, upper: np.ndarray) -> float:
-    """Share of generations (where both curves exist) in which ``lower`` < ``upper``."""
-    ok = np.isfinite(lower) & np.isfinite(upper)
-    return float(np.mean(lower[ok] < upper[ok])) if ok.any() else float("nan")
 
 
 def smooth(curve: np.ndarray, k: int) -> np.ndarray:
@@ -93,25 +87,6 @@ def per_run(data: ConditionData, column: str) -> np.ndarray:
     return data.metrics[column] if column in data.metrics else data.behaviour[column]
 
 
-def window_means(data: ConditionData, column: str, window: slice) -> np.ndarray:
-    """Per-run mean over a generation window (NaN for runs that lack it)."""
-    return nanmean(per_run(data, column)[:, window], axis=1)
-
-
-def mean_curve(data: ConditionData, column: str) -> np.ndarray:
-    """The mean over runs, per generation."""
-    return nanmean(per_run(data, column), axis=0)
-
-
 def fmt(x: float, digits: int = 2) -> str:
     """A number for the report; "n/a" where nothing was measured."""
     return "n/a" if x is None or not np.isfinite(x) else f"{x:.{digits}f}"
-
-
-def mean_sd(values, digits: int = 2) -> str:
-    """'mean ± s.d.' over the runs that have a value."""
-    v = np.asarray(values, dtype=float)
-    v = v[np.isfinite(v)]
-    if not len(v):
-        return "n/a"
-    return f"{v.mean():.{digits}f} ± {v.std():.{digits}f}"

@@ -19,6 +19,8 @@ REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED = ("replicates", "contradicte
                                                        "inconclusive", "n/a")
 VERDICTS = (REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED)
 COUNT = "count"        # the method of a point count (the sign count of a paired comparison)
+MOST = 0.5             # "most runs": a share of runs above one half
+EARLY_AHEAD = 0.8      # "from virtually the start" (Figure 3): ahead early in this share of pairs
 
 
 @dataclass(frozen=True)
@@ -123,13 +125,44 @@ def most_runs(what: str, runs: Estimate, paper: float) -> Criterion:
     when the interval lies wholly below the share the paper's count predicts, inconclusive
     otherwise. Held to the paper's share itself, such a criterion could not replicate at the
     paper's n = 10 (10 of 10 gives [0.69, 1]; a share >= 0.9 needs 36 runs of 36)."""
-    return Criterion(what, runs, low=0.5, floor=paper)
+    return Criterion(what, runs, low=MOST, floor=paper)
 
 
 def sign_count(p: Paired) -> Estimate:
     """The share of pairs with a > b, as a point (a count has no interval)."""
     k = p.above / p.n if p.n else math.nan
     return Estimate(k, k, k, p.n, COUNT)
+
+
+def point(e: Estimate) -> Estimate:
+    """An estimate's mean as a point, for a criterion on the mean alone (not its interval)."""
+    return Estimate(e.mean, e.mean, e.mean, e.n, e.method)
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of a table of judged criteria: its key, what was measured (in words) and the
+    verdict."""
+
+    key: str
+    text: str
+    verdict: str
+
+    @property
+    def met(self) -> bool:
+        return self.verdict == REPLICATES
+
+
+def row(key: str, *criteria: Criterion) -> Row:
+    """A criterion, or several that must all hold, as one line of a table."""
+    return Row(key, "; ".join(c.text() for c in criteria),
+               combine([c.verdict for c in criteria]))
+
+
+def table(rows: Sequence[Row]) -> list[str]:
+    """Rows as a Markdown table: criterion, measured, verdict."""
+    return ["| criterion | measured | verdict |", "|---|---|---|",
+            *(f"| {r.key} | {r.text} | {r.verdict} |" for r in rows)]
 
 
 def combine(verdicts: Sequence[str], needed: int | None = None) -> str:

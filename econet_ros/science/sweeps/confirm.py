@@ -1,41 +1,25 @@
-"""The pre-registered rule of docs/analysis.md ("The confirmatory study: pre-registered"),
-applied to the sweeps it names: H1 and H2 to the sweep 'confirm', H3 to 'load-map', the
-exploratory readings to 'readings'. The rule and the cell names were committed before these
-sweeps ran; this module only applies them to a sweep's tidy rows (outcomes.py)."""
+"""The pre-registered rule of docs/analysis.md ("The confirmatory study: pre-registered"): H1 and
+H2 on the confirmatory sweep's three networks, H3 on the map of mutational load, and the
+exploratory readings. The rule was committed before these sweeps ran; this module only applies
+it to a sweep's tidy rows (outcomes.py), with the cells each sweep's [rule] table names
+(rules.py)."""
 from __future__ import annotations
 
 import math
 import re
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .. import holding
 from ..stats import Estimate, estimate, firth_logistic, median, paired, share_difference
-from ..verdicts import (CONTRADICTED, INCONCLUSIVE, REPLICATES, Criterion, above, below,
-                        combine, sign_count)
-from .figures import load_map_figure
-from .spec import SweepSpec, values
+from ..verdicts import (CONTRADICTED, EARLY_AHEAD, INCONCLUSIVE, MOST, REPLICATES, Row, above,
+                        below, combine, row, sign_count, table)
+from .plan import SweepSpec, values
 
-EARLY_AHEAD = 0.8          # H1-F2: F ahead early in at least this share of seeds
+
 SIZE_MARGIN = 0.5          # H3b, H3c: log odds per doubling within which size does not matter
-
-
-@dataclass(frozen=True)
-class Row:
-    """One line of a hypothesis's table: its key, what was measured (criteria in words) and
-    the verdict."""
-
-    key: str
-    text: str
-    verdict: str
-
-
-def row(key: str, *criteria: Criterion) -> Row:
-    """A criterion, or several that must all hold, as one line of the table."""
-    return Row(key, "; ".join(c.text() for c in criteria),
-               combine([c.verdict for c in criteria]))
+Side = tuple[str, str]     # a (cell, condition) of a sweep
 
 
 def holds(rows: list[dict], cell: str, condition: str, seeds) -> np.ndarray:
@@ -52,18 +36,28 @@ def holding_text(flags: np.ndarray) -> str:
 
 
 # -- H1 and H2: the confirmatory study ------------------------------------------------------------
-F = ("four-2-2-4", "normal")
-T8, T4 = ("three-8", "three-layer"), ("three-4", "three-layer")
+@dataclass(frozen=True)
+class Networks:
+    """The confirmatory study's networks: F the four-layer net, T8 the paper's three-layer net
+    and T4 a three-layer net of F's size, each a (cell, condition) of its sweep."""
+
+    four: Side
+    paper: Side
+    matched: Side
+
+    @classmethod
+    def named(cls, four: str, paper: str, matched: str) -> "Networks":
+        return cls((four, "normal"), (paper, "three-layer"), (matched, "three-layer"))
 
 
-def figure_3(spec: SweepSpec, rows: list[dict], three: tuple[str, str], name: str,
+def figure_3(spec: SweepSpec, rows: list[dict], nets: Networks, three: Side, name: str,
              full: bool) -> list[Row]:
     """F against a three-layer cell: the late and early fitness (F1, F2: the early difference
     > 0 with F ahead in most seeds) and, in full, the late successes and separations (F3, F4),
     each a paired t interval over seeds."""
     def diff(column):
-        return paired(values(rows, *F, column, spec.seeds), values(rows, *three, column,
-                                                                    spec.seeds))
+        return paired(values(rows, *nets.four, column, spec.seeds),
+                      values(rows, *three, column, spec.seeds))
     late, early = diff("top_fitness_late"), diff("top_fitness_early")
     vs = f"F - {three[0]}"
     found = [row(f"{name}-F1", above(f"late fitness {vs}", late, digits=1)),
@@ -78,25 +72,27 @@ def figure_3(spec: SweepSpec, rows: list[dict], three: tuple[str, str], name: st
     return found
 
 
-def h1_criteria(spec: SweepSpec, rows: list[dict]) -> list[Row]:
+def h1_criteria(spec: SweepSpec, rows: list[dict], nets: Networks) -> list[Row]:
     """H1: Figure 3's four criteria against T8, and most of F's runs holding."""
-    return figure_3(spec, rows, T8, "H1", full=True) + [
+    return figure_3(spec, rows, nets, nets.paper, "H1", full=True) + [
         row("H1-hold", above("share of F's runs that hold",
-                             holding.share(holds(rows, *F, spec.seeds)), 0.5))]
+                             holding.share(holds(rows, *nets.four, spec.seeds)), MOST))]
 
 
-def decide(spec: SweepSpec, rows: list[dict]) -> str:
+def decide(spec: SweepSpec, rows: list[dict], nets: Networks) -> str:
     """The verdict of H1, which alone decides the defaults."""
-    return combine([c.verdict for c in h1_criteria(spec, rows)])
+    return combine([c.verdict for c in h1_criteria(spec, rows, nets)])
 
 
-def confirmatory(spec: SweepSpec, rows: list[dict]) -> list[str]:
+def confirmatory(spec: SweepSpec, rows: list[dict], nets: Networks) -> list[str]:
     """H1 and H2 as Markdown: every criterion with its numbers and verdict, then each
     hypothesis's verdict."""
-    h1 = h1_criteria(spec, rows)
-    h2 = figure_3(spec, rows, T4, "H2", full=False)
-    t4_text, t8_text = (holding_text(holds(rows, *cell, spec.seeds)) for cell in (T4, T8))
-    gap = share_difference(holds(rows, *F, spec.seeds), holds(rows, *T4, spec.seeds))
+    h1 = h1_criteria(spec, rows, nets)
+    h2 = figure_3(spec, rows, nets, nets.matched, "H2", full=False)
+    t4_text, t8_text = (holding_text(holds(rows, *cell, spec.seeds))
+                        for cell in (nets.matched, nets.paper))
+    gap = share_difference(holds(rows, *nets.four, spec.seeds),
+                           holds(rows, *nets.matched, spec.seeds))
     survives = {REPLICATES: "survives size matching", CONTRADICTED: "is reversed by size "
                 "matching"}.get(h2[0].verdict, "cannot be told at this n")
     h1_verdict = combine([c.verdict for c in h1])
@@ -128,7 +124,17 @@ def defaults_sentence(h1: str) -> str:
 
 
 # -- H3: the map of mutational load -----------------------------------------------------------
-LOAD_CELL = re.compile(r"^(four-\d-\d-\d|three-\d+)-(L[\d.]+|p\d+)$")
+LOAD_CELL = re.compile(r"^(four-\d-\d-\d|three-\d+)-(L[\d.]+|p\d+)$")   # SIZE-L<load>, SIZE-p<%>
+
+
+@dataclass(frozen=True)
+class EqualLoads:
+    """H3d's cells: two pairs of a small and a large net at the same load, a low one (4/4/8 at
+    0.8% against 2/2/4 at 2%) and a high one (2/2/4 at 5% against 4/4/8 at 2%), whose first
+    cell most runs must stop holding in."""
+
+    low: tuple[str, str]
+    high: tuple[str, str]
 
 
 def map_runs(spec: SweepSpec, rows: list[dict]) -> list[dict]:
@@ -170,16 +176,14 @@ def h3_terms(runs: list[dict]) -> dict[str, Estimate]:
             "three-layer": both.terms["three-layer"]}
 
 
-def h3_rows(runs: list[dict]) -> list[Row]:
+def h3_rows(runs: list[dict], equal: EqualLoads) -> list[Row]:
     """H3a-H3d on the map's runs (map_runs)."""
     terms = h3_terms(runs)
     load, size, arch = terms["load"], terms["size"], terms["three-layer"]
     margin = (-SIZE_MARGIN, SIZE_MARGIN)
-    equal_low = share_difference(_cell_share(runs, "four-4-4-8-L10.24"),
-                                 _cell_share(runs, "four-2-2-4-L10.24"))
-    equal_high = share_difference(_cell_share(runs, "four-2-2-4-p5"),
-                                  _cell_share(runs, "four-4-4-8-p2"))
-    stops = holding.share(_cell_share(runs, "four-2-2-4-p5"))
+    equal_low, equal_high = (share_difference(*(_cell_share(runs, cell) for cell in pair))
+                             for pair in (equal.low, equal.high))
+    stops = holding.share(_cell_share(runs, equal.high[0]))
     criteria = [
         row("H3a", below(f"log2 load coefficient ({load.n} four-layer runs)", load)),
         Row("H3b", f"log2 weights coefficient at equal load {size.text(2)}, {size.method}",
@@ -190,23 +194,18 @@ def h3_rows(runs: list[dict]) -> list[Row]:
             f"{equal_low.text(2)}, {equal_low.method}", _no_difference(equal_low)),
         Row("H3d-2", f"2/2/4 at 5% - 4/4/8 at 2% (L = 25.6), holding share "
             f"{equal_high.text(2)}, {equal_high.method}", _no_difference(equal_high)),
-        row("H3d-3", below("share of 2/2/4 runs at 5% that hold", stops, 0.5)),
+        row("H3d-3", below("share of 2/2/4 runs at 5% that hold", stops, MOST)),
     ]
     return criteria
 
 
-def table(found: list[Row]) -> list[str]:
-    return ["| criterion | measured | verdict |", "|---|---|---|",
-            *(f"| {c.key} | {c.text} | {c.verdict} |" for c in found)]
-
-
-def load_map(spec: SweepSpec, rows: list[dict]) -> list[str]:
+def load_map(spec: SweepSpec, rows: list[dict], equal: EqualLoads) -> list[str]:
     """H3a-H3d as Markdown, and the per-cell table behind the map figure."""
     runs = map_runs(spec, rows)
     return ["### H3: how often runs hold against the mutational load of a copy\n",
             f"Firth-penalised logistic regressions of holding (0/1 per run), coefficients in "
             f"log odds with Wald 95% intervals; margin for 'does not matter': +-{SIZE_MARGIN}.\n",
-            *table(h3_rows(runs)), "", *map_table(runs), ""]
+            *table(h3_rows(runs, equal)), "", *map_table(runs), ""]
 
 
 def _equivalent(e: Estimate, low: float, high: float) -> str:
@@ -265,8 +264,8 @@ def readings(spec: SweepSpec, rows: list[dict]) -> list[str]:
 
 
 # -- the report's section on the architecture comparison ------------------------------------------
-def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict],
-                 map_spec: SweepSpec | None = None, map_rows: list[dict] | None = None,
+def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict], nets: Networks,
+                 mapped: tuple[SweepSpec, list[dict], EqualLoads] | None = None,
                  figure: str = "") -> list[str]:
     """The paper's four- against three-layer comparison and what confounds it: the
     confirmatory study's three networks side by side (size, holding, fitness, F's paired
@@ -280,21 +279,22 @@ def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict],
              "one of the four-layer net's own size (4 hidden units):\n",
              "| network | weights | runs that hold [95% CI, Clopper-Pearson] | late top-20 "
              "fitness, mean [t CI] | F minus it, paired [t CI] |", "|---|---|---|---|---|"]
-    f_fit = values(confirm_rows, *F, "top_fitness_late", seeds)
-    for label, cell in (("four-layer 2/2/4 (F)", F), ("three-layer 4 (T4)", T4),
-                        ("three-layer 8 (T8, the paper's)", T8)):
+    f_fit = values(confirm_rows, *nets.four, "top_fitness_late", seeds)
+    for label, cell in (("four-layer 2/2/4 (F)", nets.four), ("three-layer 4 (T4)", nets.matched),
+                        ("three-layer 8 (T8, the paper's)", nets.paper)):
         fit = values(confirm_rows, *cell, "top_fitness_late", seeds)
         weights = next(r["weights"] for r in confirm_rows if (r["cell"], r["condition"]) == cell)
-        diff = "-" if cell == F else paired(f_fit, fit).diff.text(1)
+        diff = "-" if cell == nets.four else paired(f_fit, fit).diff.text(1)
         held = holding.share(holds(confirm_rows, *cell, seeds))
         lines.append(f"| {label} | {weights} | {held.text(2)} | {estimate(fit).text(1)} | "
                      f"{diff} |")
-    h1 = combine([c.verdict for c in h1_criteria(confirm_spec, confirm_rows)])
-    h2_f1 = figure_3(confirm_spec, confirm_rows, T4, "H2", full=False)[0].verdict
+    h1 = decide(confirm_spec, confirm_rows, nets)
+    h2_f1 = figure_3(confirm_spec, confirm_rows, nets, nets.matched, "H2", full=False)[0].verdict
     lines += ["", f"H1 {h1}; H2-F1 {h2_f1}. {_size_sentence(h1, h2_f1)}".rstrip()]
-    if map_spec is not None:
+    if mapped is not None:
+        map_spec, map_rows, equal = mapped
         runs = map_runs(map_spec, map_rows)
-        found = h3_rows(runs)
+        found = h3_rows(runs, equal)
         lines += ["", "What decides whether runs hold (H3, the map: four-layer 2/2/2-4/4/8 and "
                   "three-layer 4 and 8 hidden units at five mutational loads, 10 seeds a cell):",
                   "", *table(found), "",
@@ -337,22 +337,3 @@ def _mechanism_sentence(verdicts: dict[str, str]) -> str:
                 "its runs hold, so what the four-layer 2/2/4 net has over the paper's "
                 "three-layer 8 is, above all, that it is small.")
     return "The map cannot tell whether load or size decides holding."
-
-
-RULES = {"confirm": confirmatory, "load-map": load_map, "readings": readings}
-
-
-def markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
-    """The pre-registered analysis of this sweep, if the rule names it."""
-    rule = RULES.get(spec.name)
-    if not rule:
-        return []
-    return ["## The pre-registered rule (docs/analysis.md, \"The confirmatory study\")\n",
-            *rule(spec, rows)]
-
-
-def figures(spec: SweepSpec, rows: list[dict], folder: Path) -> list[Path]:
-    """The rule's figures: the load map's."""
-    if spec.name != "load-map":
-        return []
-    return [load_map_figure(map_cells(map_runs(spec, rows)), folder)]

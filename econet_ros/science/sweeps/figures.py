@@ -12,7 +12,7 @@ import numpy as np  # noqa: E402
 
 from ..figures import hand_path_gallery, save  # noqa: E402
 from ..stats import Estimate  # noqa: E402
-from .spec import SweepSpec  # noqa: E402
+from .plan import SweepSpec  # noqa: E402
 
 COLORS = {"normal": "tab:blue", "three-layer": "tab:orange", "random": "tab:gray"}
 SHOWN = ("top_fitness", "top_successes", "top_separations_per_success", "top_latency_success",
@@ -83,6 +83,9 @@ def gallery(runs: list[tuple[str, Path]], folder: Path) -> Path:
     return save(fig, folder / "gallery.png", dpi=70)
 
 
+LOAD_MAP = "load_map.png"
+
+
 def load_map_figure(cells: list[dict], folder: Path) -> Path:
     """The map of H3: per cell the share of runs that hold (with its exact interval) and the
     late top-20 fitness (mean over seeds) against the bit flips per copy, one line per network
@@ -115,4 +118,4 @@ def load_map_figure(cells: list[dict], folder: Path) -> Path:
     right.legend(fontsize=7)
     fig.suptitle("Holding against mutational load (H3; ringed: the paper's 2% flip rate)",
                  fontsize=10)
-    return save(fig, folder / "load_map.png", dpi=90)
+    return save(fig, folder / LOAD_MAP, dpi=90)

@@ -16,7 +16,7 @@ from ...files import table_rows
 from ...runs import RunData
 from .. import holding
 from ..measures import BEHAVIOUR_COLUMNS
-from .spec import SweepSpec
+from .plan import SweepSpec
 
 
 @dataclass(frozen=True)

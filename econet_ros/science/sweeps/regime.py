@@ -4,12 +4,18 @@ paired by seed), whether it reproduces Figure 3 (F1-F4) and whether its behaviou
 paper-like (B1-B4). The rule was written before the sweeps ran; this module only applies it."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..stats import estimate, paired
-from .spec import SweepSpec, comparison_pairs, values
+from .. import holding
+from ..stats import Estimate, estimate, paired
+from ..verdicts import EARLY_AHEAD, Row, above, below, combine, point, sign_count
+from .plan import SweepSpec, comparison_pairs, values
+
+
+RANDOM_SHARE = 0.1     # B3: random movement's late fitness at most this share of F's
 
 
 @dataclass(frozen=True)
@@ -17,13 +23,6 @@ class Setting:
     four: tuple[str, str]          # (cell, condition) of F, T and R
     three: tuple[str, str]
     random: tuple[str, str]
-
-
-@dataclass(frozen=True)
-class Criterion:
-    key: str
-    text: str
-    met: bool
 
 
 def settings(spec: SweepSpec) -> list[Setting]:
@@ -35,8 +34,9 @@ def settings(spec: SweepSpec) -> list[Setting]:
             if a[1] == "normal" and b[1] == "three-layer" and a in to_random]
 
 
-def judge_setting(spec: SweepSpec, rows: list[dict], s: Setting) -> list[Criterion]:
-    """F1-F4 and B1-B4 of one setting, each with the numbers it rests on."""
+def judge_setting(spec: SweepSpec, rows: list[dict], s: Setting) -> list[Row]:
+    """F1-F4 and B1-B4 of one setting, each with the numbers it rests on; met when it
+    replicates (a mean against its bound, or an interval for F1 and B3's difference)."""
     def v(side, column):
         return values(rows, *side, column, spec.seeds)
 
@@ -49,28 +49,32 @@ def judge_setting(spec: SweepSpec, rows: list[dict], s: Setting) -> list[Criteri
     fit_r = paired(v(s.four, "top_fitness_late"), v(s.random, "top_fitness_late"))
     four, rand = (estimate(v(side, "top_fitness_late")) for side in (s.four, s.random))
     eye = paired(v(s.four, "top_eye_speed_fix_late"), v(s.random, "top_eye_speed_fix_late"))
+    ratio = rand.mean / four.mean if four.mean > 0 else math.nan
+    share = Estimate(ratio, ratio, ratio, rand.n)
     return [
-        Criterion("F1", f"late fitness F - T {fit.text(1)}", fit.diff.lo > 0),
-        Criterion("F2", f"early fitness F > T in {early.above} of {early.n} seeds",
-                  early.n > 0 and early.above >= 0.8 * early.n),
-        Criterion("F3", f"late successes F - T {succ.text(2)}", succ.diff.mean > 0),
-        Criterion("F4", f"late separations F - T {sep.text(2)}", sep.diff.mean < 0),
-        Criterion("B1", f"late separations per successful trial of F {per_reach.text(2)}",
-                  per_reach.mean <= 1.0),
-        Criterion("B2", f"late separations F - R {sep_r.text(2)}", sep_r.diff.mean <= 0),
-        Criterion("B3", f"late fitness F - R {fit_r.text(1)}; R {rand.mean:.1f} = "
-                        f"{rand.mean / four.mean:.0%} of F" if four.mean else "F has no fitness",
-                  bool(fit_r.diff.lo > 0 and four.mean > 0 and rand.mean <= 0.1 * four.mean)),
-        Criterion("B4", f"late eye speed while fixating F - R {eye.text(2)} deg/cycle",
-                  eye.diff.mean < 0),
+        Row("F1", f"late fitness F - T {fit.text(1)}", above("", fit).verdict),
+        Row("F2", f"early fitness F > T in {early.above} of {early.n} seeds",
+            above("", sign_count(early), EARLY_AHEAD, closed=True).verdict),
+        Row("F3", f"late successes F - T {succ.text(2)}", above("", point(succ.diff)).verdict),
+        Row("F4", f"late separations F - T {sep.text(2)}", below("", point(sep.diff)).verdict),
+        Row("B1", f"late separations per successful trial of F {per_reach.text(2)}",
+            below("", point(per_reach), holding.LIMIT, closed=True).verdict),
+        Row("B2", f"late separations F - R {sep_r.text(2)}",
+            below("", point(sep_r.diff), closed=True).verdict),
+        Row("B3", f"late fitness F - R {fit_r.text(1)}; R {rand.mean:.1f} = "
+                  f"{rand.mean / four.mean:.0%} of F" if four.mean else "F has no fitness",
+            combine([above("", fit_r).verdict,
+                     below("", share, RANDOM_SHARE, closed=True).verdict])),
+        Row("B4", f"late eye speed while fixating F - R {eye.text(2)} deg/cycle",
+            below("", point(eye.diff)).verdict),
     ]
 
 
-def reproduces(criteria: list[Criterion]) -> bool:
+def reproduces(criteria: list[Row]) -> bool:
     return all(c.met for c in criteria if c.key.startswith("F"))
 
 
-def paper_like(criteria: list[Criterion]) -> bool:
+def paper_like(criteria: list[Row]) -> bool:
     return all(c.met for c in criteria if c.key.startswith("B"))
 
 
@@ -126,7 +130,7 @@ def defaults_markdown(judged: list[tuple[Setting, bool, bool]]) -> list[str]:
                     f"a-priori ones (the study above ran on them){behaviour}.\n"]
 
 
-def best_setting(spec: SweepSpec, rows: list[dict]) -> tuple[Setting, list[Criterion]] | None:
+def best_setting(spec: SweepSpec, rows: list[dict]) -> tuple[Setting, list[Row]] | None:
     """The setting meeting the most criteria; ties to the larger CI lower bound of F - T's
     late fitness (the rule's choice of sweep B's base)."""
     scored = []

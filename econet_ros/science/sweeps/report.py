@@ -9,11 +9,11 @@ from pathlib import Path
 from ...errors import ResultsError
 from .. import holding
 from ..stats import estimate, median, paired, share
-from . import confirm
 from .figures import comparison_figure, gallery, outcome_figure
 from .outcomes import OUTCOMES, WINDOWS, tidy_rows
-from .regime import regime_markdown
-from .spec import SweepSpec, comparison_pairs, load_sweep, values
+from .plan import SweepSpec, comparison_pairs, values
+from .rules import Swept, rule_of
+from .spec import load_sweep
 
 
 # -- comparisons --------------------------------------------------------------------------------
@@ -71,7 +71,7 @@ def build_sweep_report(out: Path) -> tuple[Path, list[str]]:
              if r.seed == spec.seeds[0] and (r.folder(out) / "run.json").exists()]
     if first:
         figures.append(gallery(first, out / "figures"))
-    figures += confirm.figures(spec, rows, out / "figures")
+    figures += rule_of(spec).figures(Swept(spec, rows), out / "figures")
     summary = out / "summary.md"
     summary.write_text(summary_markdown(spec, rows, late, compared, notes, figures, out),
                        encoding="utf-8")
@@ -139,7 +139,6 @@ def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out:
                          f"{row['a_above_b']} of {row['n_seeds']} |")
     lines.append("")
     lines += holding_markdown(spec, rows)
-    lines += confirm.markdown(spec, rows)
-    lines += regime_markdown(spec, rows)
+    lines += rule_of(spec).markdown(Swept(spec, rows))
     lines += [f"![{p.stem}]({p.relative_to(out)})\n" for p in figures]
     return "\n".join(lines) + "\n"

@@ -23,7 +23,8 @@ from ...config import Config
 from ...errors import UsageError
 from ...runs import evolve_into
 from ..study import run_with_behaviour
-from .spec import Run, SweepSpec, finished, prepare_folder
+from .plan import Run, SweepSpec
+from .spec import finished, prepare_folder
 
 TASK_RETRIES = 3       # a run whose worker process dies is started again up to this often
 

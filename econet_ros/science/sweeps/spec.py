@@ -7,6 +7,7 @@ A sweep specification is a TOML file (read with the standard library's tomllib):
     seeds = [1, 2]                       # or {first = 1, count = 10}
     conditions = ["normal", "three-layer"]
     behaviour = true                     # also record behaviour.csv (Figures 4-9 measures)
+    rule = "regime"                      # the decision rule its report applies (rules.py)
 
     [settings]                           # changes every cell makes (dotted config keys)
     "evolution.population" = 20
@@ -22,6 +23,11 @@ A sweep specification is a TOML file (read with the standard library's tomllib):
     a = {condition = "normal"}           # within every cell: normal minus three-layer
     b = {condition = "three-layer"}
 
+A rule that needs named cells (or a companion sweep) takes them in a [rule] table instead of
+the rule = "NAME" line, e.g. name = "confirmatory" and four = "four-2-2-4" (each rule's options:
+rules.py). Without a rule the report shows the general tables only (cells, outcomes,
+comparisons, holding) and the sweep adds nothing to a study report's choice of defaults.
+
 Every cell runs every seed, and a run is (cell, condition, seed) evolved as run 1 of that seed,
 so the same seed gives the same trial starts in every cell and condition: runs pair by seed.
 Results: OUT/sweep.json (the specification as read) and OUT/<cell>/<condition>/seed-NNN/ (a run
@@ -31,88 +37,20 @@ from __future__ import annotations
 
 import itertools
 import json
-import math
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from ...config import CONDITIONS, SETTINGS, Config
 from ...errors import ConfigError, ResultsError
 from ...runs import RunData
+from .plan import FORMAT, Cell, Run, SweepSpec
+from .rules import RULES
 
-FORMAT = "econet-sweep/1"
 RESERVED = ("evolution.condition", "evolution.generations")
 TOP_KEYS = {"name", "description", "generations", "seeds", "conditions", "behaviour",
-            "settings", "cells", "factors", "compare"}
-
-
-@dataclass(frozen=True)
-class Cell:
-    name: str
-    changes: dict          # dotted config key -> value (the cell's own and its factor levels)
-    conditions: tuple[str, ...]
-    base: str = ""         # the named cell it was crossed from ("" without named cells)
-    levels: tuple = ()     # its factor levels, as (dotted key, value) pairs
-
-    def matches(self, name: str) -> bool:
-        """Whether a comparison's cell name means this cell: its own name, or the named cell
-        it was crossed from (then the comparison is made at every factor level)."""
-        return name in (self.name, self.base)
-
-
-@dataclass(frozen=True)
-class Run:
-    cell: str
-    condition: str
-    seed: int
-    config: Config
-
-    def folder(self, out: Path) -> Path:
-        return Path(out) / self.cell / self.condition / f"seed-{self.seed:03d}"
-
-
-@dataclass
-class SweepSpec:
-    name: str
-    generations: int
-    seeds: tuple[int, ...]
-    cells: list[Cell]
-    settings: dict = field(default_factory=dict)
-    behaviour: bool = True
-    compare: list[dict] = field(default_factory=list)
-    description: str = ""
-
-    def config(self, cell: Cell, condition: str) -> Config:
-        return Config().replace(**self.settings, **cell.changes, **{
-            "evolution.condition": condition, "evolution.generations": self.generations})
-
-    def runs(self) -> list[Run]:
-        """Every run, longest first (random movement is the cheapest condition)."""
-        runs = [Run(cell.name, condition, seed, self.config(cell, condition))
-                for cell in self.cells for condition in cell.conditions for seed in self.seeds]
-        return sorted(runs, key=lambda run: run.condition == "random")
-
-    def cell(self, name: str) -> Cell:
-        return next(c for c in self.cells if c.name == name)
-
-    def to_dict(self) -> dict:
-        return {"format": FORMAT, "name": self.name, "description": self.description,
-                "generations": self.generations, "seeds": list(self.seeds),
-                "behaviour": self.behaviour, "settings": self.settings,
-                "cells": [{"name": c.name, "changes": c.changes,
-                           "conditions": list(c.conditions), "base": c.base,
-                           "levels": [list(pair) for pair in c.levels]} for c in self.cells],
-                "compare": self.compare}
-
-    @classmethod
-    def from_dict(cls, data: dict) -> "SweepSpec":
-        cells = [Cell(c["name"], c["changes"], tuple(c["conditions"]), c["base"],
-                      tuple(map(tuple, c["levels"]))) for c in data["cells"]]
-        return cls(data["name"], data["generations"], tuple(data["seeds"]), cells,
-                   data["settings"], data["behaviour"], data["compare"], data["description"])
+            "settings", "cells", "factors", "compare", "rule"}
+REPORTING = ("description", "rule")     # what a report says, not what runs: a re-run may change it
 
 
 # -- reading a specification -------------------------------------------------------------------
@@ -152,8 +90,11 @@ def _spec_from_toml(data: dict, default_name: str) -> SweepSpec:
                      _seeds(data.get("seeds", [1])), cells, settings,
                      _flag(data.get("behaviour", True), "behaviour"),
                      _comparisons(data.get("compare", [])),
-                     _text(data.get("description", ""), "description"))
+                     _text(data.get("description", ""), "description"),
+                     _rule(data.get("rule")))
     _check_comparisons(spec)
+    if spec.rule:
+        RULES[spec.rule["name"]].check(spec.rule, {c.name for c in spec.cells})
     return spec
 
 
@@ -167,6 +108,18 @@ def _flag(value: Any, what: str) -> bool:
     if not isinstance(value, bool):
         raise ConfigError(f"{what} must be true or false, got {value!r}")
     return value
+
+
+def _rule(value: Any) -> dict:
+    """rule = "NAME", or a [rule] table with name = "NAME" and the rule's options."""
+    if value is None:
+        return {}
+    choice = {"name": value} if isinstance(value, str) else value
+    if not isinstance(choice, dict) or not isinstance(choice.get("name"), str) \
+            or choice["name"] not in RULES:
+        raise ConfigError(f"rule must be one of {', '.join(RULES)} (or a [rule] table with "
+                          f"name = one of them), got {value!r}")
+    return dict(choice)
 
 
 def _generations(data: dict) -> int:
@@ -286,57 +239,31 @@ def _check_comparisons(spec: SweepSpec) -> None:
                 raise ConfigError(f"compare names condition '{condition}'")
 
 
-# -- runs and their pairs -----------------------------------------------------------------------
-def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:
-    """The (cell, condition) pairs a [[compare]] entry stands for. A side without a cell means
-    every cell (the same on both sides); a cell named as crossed with factors means each of its
-    factor levels, paired with the other side's cell at the same levels; a side without a
-    condition means every condition the cell runs (the same on both sides)."""
-    a, b = item["a"], item["b"]
-    runs = {(c.name, condition) for c in spec.cells for condition in c.conditions}
-    pairs = []
-    for cell in spec.cells:
-        if "cell" in a and not cell.matches(a["cell"]):
-            continue
-        partner = cell if "cell" not in b else next(
-            (c for c in spec.cells if c.matches(b["cell"]) and c.levels == cell.levels), None)
-        for condition in cell.conditions:
-            if a.get("condition", condition) != condition or partner is None:
-                continue
-            left = (cell.name, condition)
-            right = (partner.name, b.get("condition", condition))
-            if right in runs and right != left and (left, right) not in pairs:
-                pairs.append((left, right))
-    return pairs
-
-
-def values(rows: list[dict], cell: str, condition: str, column: str,
-           seeds: tuple[int, ...]) -> np.ndarray:
-    """A column over the seeds, in seed order (NaN where a run is missing)."""
-    by_seed = {r["seed"]: r[column] for r in rows
-               if r["cell"] == cell and r["condition"] == condition}
-    return np.array([by_seed.get(seed, math.nan) for seed in seeds], dtype=float)
-
-
 # -- the output folder --------------------------------------------------------------------------
 def prepare_folder(spec: SweepSpec, out: Path) -> None:
-    """Create OUT with the spec, or check that OUT already holds this very spec."""
+    """Create OUT with the spec, or check that OUT already holds the same runs (its description
+    and rule, which change only what the report says, are brought up to date)."""
     out = Path(out)
     path = out / "sweep.json"
-    wanted = spec.to_dict()
+    wanted = json.loads(json.dumps(spec.to_dict()))
     if path.exists():
         try:
             stored = json.loads(path.read_text(encoding="utf-8"))
         except (json.JSONDecodeError, UnicodeDecodeError):
             raise ResultsError(f"{path} is damaged (not JSON); choose another --out") from None
-        if stored != json.loads(json.dumps(wanted)):
+        if _runs_of(stored) != _runs_of(wanted):
             raise ResultsError(f"{out} holds a different sweep ('{stored.get('name')}'); "
                                "choose another --out")
-        return
+        if stored == wanted:
+            return
     out.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(wanted, indent=2, sort_keys=True) + "\n", encoding="utf-8")
     tmp.replace(path)
+
+
+def _runs_of(stored: dict) -> dict:
+    return {key: value for key, value in stored.items() if key not in REPORTING}
 
 
 def load_sweep(out: Path) -> SweepSpec:

@@ -7,11 +7,14 @@ import numpy as np
 import pytest
 
 from econet_ros.science.sweeps import confirm
+from econet_ros.science.sweeps.rules import RULES, Swept
 from econet_ros.science.sweeps.spec import load_spec
 
 SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
 CONFIRM = load_spec(SPECS / "confirm.toml")
 MAP = load_spec(SPECS / "load-map.toml")
+NETS = RULES["confirmatory"].networks(Swept(CONFIRM, []))      # the cells its [rule] names
+EQUAL = RULES["load-map"].equal_loads(Swept(MAP, []))
 
 
 def confirm_rows(gap=300.0, early_gap=50.0, holding_runs=18, noise=20.0, seed=0):
@@ -35,14 +38,14 @@ def confirm_rows(gap=300.0, early_gap=50.0, holding_runs=18, noise=20.0, seed=0)
 
 
 def verdicts(rows):
-    return {c.key: c.verdict for c in confirm.h1_criteria(CONFIRM, rows)}
+    return {c.key: c.verdict for c in confirm.h1_criteria(CONFIRM, rows, NETS)}
 
 
 def test_data_built_to_meet_h1_replicate_it_and_make_2_2_4_the_default():
     rows = confirm_rows()
     assert set(verdicts(rows).values()) == {confirm.REPLICATES}
-    assert confirm.decide(CONFIRM, rows) == confirm.REPLICATES
-    text = "\n".join(confirm.confirmatory(CONFIRM, rows))
+    assert confirm.decide(CONFIRM, rows, NETS) == confirm.REPLICATES
+    text = "\n".join(confirm.confirmatory(CONFIRM, rows, NETS))
     assert "**H1 replicates.**" in text and "2/2/4 become the defaults" in text
     assert "survives size matching" in text        # T4 built as weak as T8 here
 
@@ -58,8 +61,8 @@ def test_breaking_one_criterion_decides_h1_by_that_criterion(change, key, verdic
     rows = confirm_rows(**change)
     found = verdicts(rows)
     assert found[key] == verdict
-    assert confirm.decide(CONFIRM, rows) == verdict
-    assert "defaults stay the a-priori ones" in "\n".join(confirm.confirmatory(CONFIRM, rows))
+    assert confirm.decide(CONFIRM, rows, NETS) == verdict
+    assert "defaults stay the a-priori ones" in "\n".join(confirm.confirmatory(CONFIRM, rows, NETS))
 
 
 def map_rows(holding_at, seed=1):
@@ -83,7 +86,7 @@ def map_rows(holding_at, seed=1):
 
 
 def map_verdicts(rows):
-    lines = confirm.load_map(MAP, rows)
+    lines = confirm.load_map(MAP, rows, EQUAL)
     return {line.split(" | ")[0][2:]: line.rsplit(" | ", 1)[1][:-2] for line in lines
             if line.startswith("| H3")}
 

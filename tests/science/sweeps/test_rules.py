@@ -1,0 +1,111 @@
+"""A sweep names its decision rule in its TOML: the rule is checked when the spec is read, kept in
+the sweep folder, and the reports ask the rule, never the sweep's name."""
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from econet_ros.errors import ConfigError, ResultsError
+from econet_ros.science.sweeps.outcomes import OUTCOMES, WINDOWS
+from econet_ros.science.sweeps.plan import SweepSpec
+from econet_ros.science.sweeps.rules import NO_RULE, RULES, Swept, choose_defaults, rule_of
+from econet_ros.science.sweeps.spec import load_spec, load_sweep, prepare_folder
+
+from test_confirm import confirm_rows
+
+SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+CELLS = """
+[cells.F]
+conditions = ["normal"]
+[cells.T]
+conditions = ["three-layer"]
+"""
+
+
+def confirmed_rows() -> list[dict]:
+    """The confirmatory sweep's hand-made rows (test_confirm), with every other outcome NaN."""
+    unmeasured = {f"{o.name}_{w}": math.nan for o in OUTCOMES for w in WINDOWS}
+    return [{**unmeasured, "weights": 64, **row} for row in confirm_rows()]
+
+
+def spec_from(tmp_path: Path, text: str) -> SweepSpec:
+    path = tmp_path / "spec.toml"
+    path.write_text(text, encoding="utf-8")
+    return load_spec(path)
+
+
+def test_a_spec_without_a_rule_gets_no_rule_section(tmp_path):
+    spec = spec_from(tmp_path, 'name = "confirm"\n' + CELLS)      # the name decides nothing
+    assert spec.rule == {} and rule_of(spec) is NO_RULE
+    assert NO_RULE.markdown(Swept(spec, [])) == [] and choose_defaults([Swept(spec, [])]) == []
+
+
+def test_an_unknown_rule_is_refused_in_one_line_naming_the_known_ones(tmp_path):
+    with pytest.raises(ConfigError) as error:
+        spec_from(tmp_path, 'rule = "regim"\n' + CELLS)
+    message = str(error.value)
+    assert "\n" not in message and all(name in message for name in RULES)
+
+
+@pytest.mark.parametrize("table, wrong", [
+    ('name = "confirmatory"\nfour = "F"\npaper = "T"\nmap = "m"', "matched"),     # missing
+    ('name = "confirmatory"\nfour = "F"\npaper = "T"\nmatched = "X"\nmap = "m"', "X"),
+    ('name = "load-map"\nequal_low = ["F"]\nequal_high = ["F", "T"]', "equal_low"),
+    ('name = "regime"\nfour = "F"', "four"),                  # the regime rule takes none
+])
+def test_a_rule_table_must_name_the_cells_its_rule_needs(tmp_path, table, wrong):
+    with pytest.raises(ConfigError, match=wrong):
+        spec_from(tmp_path, CELLS + "[rule]\n" + table + "\n")
+
+
+def test_a_companion_sweep_may_be_left_out(tmp_path):
+    spec = spec_from(tmp_path, CELLS + '[rule]\nname = "confirmatory"\nfour = "F"\n'
+                     'paper = "T"\nmatched = "T"\n')
+    assert rule_of(spec) is RULES["confirmatory"]
+
+
+def test_the_rule_is_kept_in_the_sweep_folder(tmp_path):
+    spec = load_spec(SPECS / "confirm.toml")
+    prepare_folder(spec, tmp_path)
+    assert load_sweep(tmp_path).rule == spec.rule == {
+        "name": "confirmatory", "four": "four-2-2-4", "paper": "three-8", "matched": "three-4",
+        "map": "load-map"}
+
+
+def test_a_folder_made_before_rules_is_given_the_rule_but_not_other_runs(tmp_path):
+    spec = load_spec(SPECS / "readings.toml")
+    stored = spec.to_dict()
+    del stored["rule"]                       # as written before sweeps named rules
+    stored["description"] = "an older wording"
+    (tmp_path / "sweep.json").write_text(json.dumps(stored), encoding="utf-8")
+    assert load_sweep(tmp_path).rule == {}
+    prepare_folder(spec, tmp_path)           # what `econet sweep run SPEC --out DIR` does first
+    assert load_sweep(tmp_path).rule == {"name": "readings"}
+    other = load_spec(SPECS / "readings.toml")
+    other.seeds = (1, 2)
+    with pytest.raises(ResultsError, match="different sweep"):
+        prepare_folder(other, tmp_path)
+
+
+def test_the_rule_not_the_name_decides_the_report(tmp_path):
+    spec = load_spec(SPECS / "confirm.toml")
+    spec.name = "renamed"
+    sweep = Swept(spec, confirmed_rows())
+    text = "\n".join(rule_of(spec).markdown(sweep))
+    assert "### H1:" in text and "setting by setting" in text    # its tables and regime's
+    assert "2/2/4 become the defaults" in "\n".join(choose_defaults([sweep]))
+    assert rule_of(spec).architecture(sweep, [sweep])[0].startswith("## The architecture")
+
+
+def test_the_confirmatory_rule_chooses_the_defaults_over_the_regime_rule():
+    confirmed = Swept(load_spec(SPECS / "confirm.toml"), confirmed_rows())
+    regime = Swept(load_spec(SPECS / "arch-x-mutation.toml"), [])
+    assert choose_defaults([regime, confirmed]) == choose_defaults([confirmed])
+
+
+@pytest.mark.parametrize("path", sorted(SPECS.glob("*.toml")), ids=lambda p: p.stem)
+def test_every_example_spec_reads_with_its_rule(path):
+    spec = load_spec(path)
+    assert rule_of(spec) is (RULES[spec.rule["name"]] if spec.rule else NO_RULE)
+    assert "issue" not in path.read_text(encoding="utf-8").lower()
