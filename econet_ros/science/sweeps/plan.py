@@ -79,7 +79,7 @@ class SweepSpec:
                       tuple(map(tuple, c["levels"]))) for c in data["cells"]]
         return cls(data["name"], data["generations"], tuple(data["seeds"]), cells,
                    data["settings"], data["behaviour"], data["compare"], data["description"],
-                   data.get("rule", {}))         # a folder made before sweeps named rules
+                   data["rule"])
 
 
 def comparison_pairs(spec: SweepSpec, item: dict) -> list[tuple[tuple[str, str], tuple[str, str]]]:

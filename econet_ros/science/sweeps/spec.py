@@ -273,6 +273,10 @@ def load_sweep(out: Path) -> SweepSpec:
         if data.get("format") != FORMAT:
             raise ResultsError(f"{path} has format {data.get('format')!r}, this version "
                                f"reads {FORMAT!r}")
+        if "rule" not in data:     # its report would silently lack the rule's sections
+            raise ResultsError(f"{path} was written before sweeps named their decision rule: "
+                               f"run `econet sweep run SPEC --out {out}` once to record it "
+                               "(finished runs are not run again)")
         return SweepSpec.from_dict(data)
     except OSError:
         raise ResultsError(f"{out} is not a sweep folder (no sweep.json; make one with "

@@ -157,6 +157,23 @@ def test_a_second_call_skips_finished_runs_and_redoes_unfinished_ones(swept, tmp
     assert untouched.stat().st_mtime_ns == before
 
 
+def test_a_folder_from_before_rules_is_refused_until_run_again(swept, tmp_path, capsys):
+    """Its report would lack the rule's sections without a word; a re-run records the rule and
+    runs nothing again."""
+    spec_path, out, _ = swept
+    copy = tmp_path / "old"
+    shutil.copytree(out, copy)
+    stored = json.loads((copy / "sweep.json").read_text())
+    del stored["rule"]
+    (copy / "sweep.json").write_text(json.dumps(stored))
+    assert main(["sweep", "report", str(copy)]) == 2
+    err = capsys.readouterr().err
+    assert "before sweeps named their decision rule" in err and err.count("\n") == 1
+    assert main(["sweep", "run", str(spec_path), "--out", str(copy), "--quiet"]) == 0
+    assert "rule" in json.loads((copy / "sweep.json").read_text())
+    assert main(["sweep", "report", str(copy)]) == 0
+
+
 def test_report_tables_pair_runs_by_seed(swept, capsys):
     _, out, _ = swept
     assert main(["sweep", "report", str(out)]) == 0
