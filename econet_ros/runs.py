@@ -32,7 +32,7 @@ from tqdm import tqdm
 from . import genome as genome_codes
 from .config import Config, ConfigError
 from .errors import ResultsError
-from .evolution import Evaluator, GenerationResult
+from .evolution import Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
                     start_table, stored_whole_number, table_rows, write_atomically, writing)
 from .optimizers import make_optimizer
@@ -272,7 +272,7 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     configured optimizer (optimizers.py), and both written before
     ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears how many generations
     the folder already held. Returns the run's generation count."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     n_weights = evaluator.n_weights
     optimizer = make_optimizer(config, n_weights, seed, run)
     with RunStore(folder, config, seed, run, n_weights) as store:
@@ -310,7 +310,7 @@ def run_condition(config: Config, runs: int, seed: int, out: Path, progress: boo
     """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
     were interrupted, calling on_generation(run, result, offspring) after each generation;
     returns a short human-readable summary."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     generations = config.evolution.generations
     done = sum(finished_generations(run_folder(out, run)) for run in range(1, runs + 1))
     with tqdm(total=runs * generations, initial=done, desc=config.evolution.condition,
@@ -344,7 +344,7 @@ def replay(run_dir: Path, generation: int, record: Record = True,
     result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...), with
     record="behaviour" only the BehaviourRecord of the study's behaviour rows."""
     data = RunData(run_dir)
-    evaluator = evaluator or Evaluator(data.config)
+    evaluator = evaluator or InProcessEvaluator(data.config)
     return evaluator.test_generation(data.genomes(generation), data.seed, data.run, generation,
                                      record)
 

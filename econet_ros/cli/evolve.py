@@ -8,7 +8,7 @@ import shutil
 from pathlib import Path
 
 from ..errors import ResultsError, UsageError
-from ..evolution import Evaluator
+from ..evolution import InProcessEvaluator
 from ..plugins import resolve
 from ..files import locked, read_json_object, write_atomically
 from ..runs import run_condition, run_folder
@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plugin_evaluator(name: str | None, config) -> tuple[Evaluator | None, dict | None]:
+def _plugin_evaluator(name: str | None, config) -> tuple[InProcessEvaluator | None, dict | None]:
     """The evaluator of an evolvable plug-in and what its run folders record (None, None for
     the condition's own network)."""
     if name is None:
@@ -64,7 +64,7 @@ def _plugin_evaluator(name: str | None, config) -> tuple[Evaluator | None, dict 
                          f"{controller.n_params}); try econet evaluate --controller {name}")
     settings = {"controller": name, "class": f"{cls.__module__}:{cls.__qualname__}",
                 "n_params": controller.n_params}
-    return Evaluator(config, controller=controller), settings
+    return InProcessEvaluator(config, controller=controller), settings
 
 
 def _check_controller_records(out: Path, runs: int, settings: dict | None) -> None:

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..config import CONDITIONS, Config, ConfigError
 from ..errors import ResultsError
-from ..evolution import Evaluator
+from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
 from ..runs import METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay, run_folder
@@ -167,10 +167,10 @@ def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path
 
 # -- one run, with behaviour rows ----------------------------------------------------------------
 def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
-                       evaluator=None) -> int:
+                       evaluator: Evaluator | None = None) -> int:
     """Evolve (or resume) one run into run_dir, writing behaviour.csv alongside metrics.csv.
     Returns the number of generations finished."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     trials = config.evolution.trials
     path = Path(run_dir) / BEHAVIOUR_FILE
 

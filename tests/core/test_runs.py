@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from econet_ros.config import Config
-from econet_ros.evolution import Evaluator
+from econet_ros.evolution import InProcessEvaluator
 from econet_ros.runs import RunData, replay, run_condition
 
 
@@ -23,7 +23,7 @@ def test_resumed_run_writes_the_same_files_as_an_uninterrupted_one(tmp_path):
     class Interrupt(Exception):
         pass
 
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     original = evaluator.test_generation
 
     def stop_at_generation_3(genomes, seed, run, generation, record=False):
