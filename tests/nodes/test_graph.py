@@ -244,7 +244,7 @@ def test_lockstep_world_steps_once_per_matching_command(procs, ros):
 def equivalence(procs, ros, namespace, condition, generation=1):
     """Test one generation through the graph (this process as supervisor) and in-process."""
     procs.start("world", namespace)
-    procs.start("controller", namespace, f"network:={condition}")
+    procs.start("controller", namespace, f"controller:={condition}")
     config = small_config(condition)
     sup = SupervisorNode(namespace=namespace, parameter_overrides=[
         Parameter(k, value=v) for k, v in {**SMALL, "condition": condition,
@@ -379,7 +379,7 @@ def test_supervisor_survives_a_vanished_controller(procs, ros, tmp_path):
 
 def test_bad_parameter_is_one_line_error(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "econet_ros.nodes.controller_node",
-                           "--ros-args", "-p", "network:=five-layer"], cwd=REPO,
+                           "--ros-args", "-p", "controller:=five-layer"], cwd=REPO,
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [
