@@ -10,6 +10,8 @@ A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .n
                       population tested in generation g, the last row = the final offspring
     fitness.npy       (generations, population) fitness of every econet
     best_genomes.npy  (generations, n_weights) codes of each generation's fittest econet
+    controller.json   the controller plug-in the run was evolved with (econet evolve
+                      --controller); absent for the condition's own network
     .lock             held by the process writing the folder (a second writer is refused)
 
 metrics.csv is written last for each generation and is the record of what has finished: a run
@@ -18,20 +20,25 @@ the same files as an uninterrupted run. The arrays are made at full size when th
 with their space reserved, and filled row by row in place; JSON files are replaced whole
 (files.write_atomically). Every file is checked when read: a damaged one is a one-line error naming
 it. See docs/results-format.md for the meaning of every column.
+
+The folder above the run folders (``econet evolve --out``, the supervisor's ``out``) is held with
+``writing_into`` while runs are written into it, which also clears it for --overwrite.
 """
 from __future__ import annotations
 
 import json
-from contextlib import ExitStack
+import shutil
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 from tqdm import tqdm
 
 from . import genome as genome_codes
 from .config import Config, ConfigError
-from .errors import ResultsError
+from .controllers import Controller
+from .errors import ResultsError, UsageError
 from .evolution import Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
                     start_table, stored_whole_number, table_rows, write_atomically, writing)
@@ -42,6 +49,8 @@ FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
 MEASURES = ("fitness", "successes", "latency", "separations")
 METRIC_COLUMNS = ["generation", "best_fitness"] + [f"{g}_{m}" for g in GROUPS for m in MEASURES]
+RUN_FOLDERS = "run-*"                  # the run folders under an output folder (run_folder)
+CONTROLLER_FILE = "controller.json"    # which controller plug-in a run folder was evolved with
 
 
 def generation_metrics(result: GenerationResult) -> dict[str, float]:
@@ -290,8 +299,66 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     return config.evolution.generations
 
 
+# -- output folders of runs --------------------------------------------------------------------
 def run_folder(out: Path, run: int) -> Path:
+    """The folder of run number ``run`` (from 1) under an output folder: out/run-NN."""
     return Path(out) / f"run-{run:02d}"
+
+
+@contextmanager
+def writing_into(out: Path, overwrite: bool = False,
+                 results: tuple[str, ...] = (RUN_FOLDERS,)) -> Iterator[None]:
+    """Hold ``out``'s lock while results are written into it (a second writer is refused); with
+    ``overwrite``, first delete the results already there (the entries matching the ``results``
+    patterns: by default its run folders), under the lock, so that no one is writing them."""
+    with locked(out):
+        if overwrite:
+            for pattern in results:
+                for old in sorted(Path(out).glob(pattern)):
+                    if old.is_dir():
+                        shutil.rmtree(old)
+                    else:
+                        old.unlink()
+        yield
+
+
+def controller_record(name: str, controller: Controller) -> dict:
+    """What a run folder records (CONTROLLER_FILE) of the controller plug-in it is evolved with,
+    named as the user named it."""
+    cls = type(controller)
+    return {"controller": name, "class": f"{cls.__module__}:{cls.__qualname__}",
+            "n_params": controller.n_params}
+
+
+def record_controller(out: Path, runs: int, record: dict | None) -> None:
+    """Record in out's run folders 1..runs which controller plug-in their runs are evolved with
+    (None: the condition's own network, recorded by having no CONTROLLER_FILE), refusing a
+    folder that holds a run of another controller: runs of different controllers never mix."""
+    for number in range(1, runs + 1):
+        folder = run_folder(out, number)
+        old = read_controller_record(folder)
+        if (folder / "run.json").exists() and old != record:
+            what = (old or {}).get("controller", "the condition's network")
+            wanted = f"--controller {old['controller']}" if old else "no --controller"
+            raise UsageError(f"{folder} holds a run evolved with {what}; use {wanted}, another "
+                             "--out, or --overwrite")
+        if record:
+            folder.mkdir(parents=True, exist_ok=True)
+            write_atomically(folder / CONTROLLER_FILE, json.dumps(record, indent=2) + "\n")
+
+
+def read_controller_record(run_dir: Path) -> dict | None:
+    """The controller plug-in a run folder records (None: the condition's network)."""
+    path = Path(run_dir) / CONTROLLER_FILE
+    if not path.exists():
+        return None
+    try:
+        record = read_json_object(path)
+        if not isinstance(record.get("controller"), str):
+            raise ResultsError(f"{path} is damaged (no controller name)")
+    except ResultsError as error:
+        raise ResultsError(f"{error}; choose another --out or pass --overwrite") from None
+    return record
 
 
 def finished_generations(run_dir: Path) -> int:
@@ -331,7 +398,7 @@ def summarize(out: Path, runs: int) -> str:
     for run in range(1, runs + 1):
         data = RunData(run_folder(out, run))
         top, best = data.metrics["top_fitness"], int(data.metrics["best_fitness"][-1])
-        lines.append(f"  run-{run:02d}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
+        lines.append(f"  {data.path.name}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
                      f"(gen {data.generations_done - 1}), best {best}")
     lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
                  "genomes.npy, fitness.npy, best_genomes.npy")

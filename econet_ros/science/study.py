@@ -35,6 +35,8 @@ from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
 BEHAVIOUR_FILE = "behaviour.csv"
+# What a study writes into its folder (beside report.md), all deleted by --overwrite.
+STUDY_RESULTS = (*CONDITIONS, "sensitivity", "figures", "study.json")
 
 # Built-in sensitivity variants: name -> settings changed from the study's base config.
 SENSITIVITY = {
