@@ -18,8 +18,9 @@ metrics.csv is written last for each generation and is the record of what has fi
 interrupted at any point (a kill, a full disk) resumes from its last complete row and produces
 the same files as an uninterrupted run. The arrays are made at full size when the run starts,
 with their space reserved, and filled row by row in place; JSON files are replaced whole
-(files.write_atomically). Every file is checked when read: a damaged one is a one-line error naming
-it. See docs/results-format.md for the meaning of every column.
+(files.write_atomically; a temporary file that a kill left behind is removed on reopening). Every
+file is checked when read: a damaged one is a one-line error naming it. See
+docs/results-format.md for the meaning of every column.
 
 The folder above the run folders (``econet evolve --out``, the supervisor's ``out``) is held with
 ``writing_into`` while runs are written into it, which also clears it for --overwrite.
@@ -41,7 +42,8 @@ from .controllers import Controller
 from .errors import ResultsError, UsageError
 from .evolution import Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
-                    start_table, stored_whole_number, table_rows, write_atomically, writing)
+                    remove_torn_writes, start_table, stored_whole_number, table_rows,
+                    write_atomically, writing)
 from .optimizers import make_optimizer
 from .trials import Record
 
@@ -86,6 +88,7 @@ class RunStore:
 
     def __enter__(self) -> "RunStore":
         self._held.enter_context(locked(self.path))
+        remove_torn_writes(self.path)
         return self
 
     def __exit__(self, *failure) -> None:

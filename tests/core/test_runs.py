@@ -1,7 +1,8 @@
 """Run folders and the generation loop: a resumed run writes the same files as an uninterrupted
-one, a torn metrics line is redone, replay reproduces the stored fitness, --overwrite clears
-under the folder lock, and the controller record keeps runs of different controllers apart
-(faults while writing: tests/cli/test_bad_input_and_faults.py)."""
+one, a torn metrics line is redone, the temporary file of a killed write is removed, replay
+reproduces the stored fitness, --overwrite clears under the folder lock, and the controller
+record keeps runs of different controllers apart (faults while writing:
+tests/cli/test_bad_input_and_faults.py)."""
 import json
 
 import numpy as np
@@ -58,6 +59,27 @@ def test_a_torn_metrics_line_is_redone_on_resume(tmp_path):
     path.write_bytes(reference[:-25])       # a crash half way through the last row
     run_condition(config, 1, 5, tmp_path / "a", progress=False)
     assert path.read_bytes() == reference   # every row, line endings included
+
+
+def test_a_resumed_run_removes_the_temporary_files_of_killed_writes(tmp_path):
+    """write_atomically's temporary file (.<name>.<pid>.tmp) stays behind when a kill cuts the
+    write short; reopening the folder removes it and leaves other hidden files alone."""
+    config = small_config(**{"evolution.generations": 3})
+    run_condition(config, 1, 5, tmp_path / "whole", progress=False)
+    run_condition(config, 1, 5, tmp_path / "split", progress=False)
+    run_dir = tmp_path / "split" / "run-01"
+    metrics = run_dir / "metrics.csv"
+    metrics.write_bytes(metrics.read_bytes()[:-25])      # killed in the last generation
+    torn = [run_dir / ".run.json.4242.tmp", run_dir / ".controller.json.17.tmp"]
+    for path in torn:
+        path.write_text('{"form')
+    (run_dir / ".notes.tmp").write_text("the user's own")
+    run_condition(config, 1, 5, tmp_path / "split", progress=False)
+    assert not any(path.exists() for path in torn)
+    assert (run_dir / ".notes.tmp").read_text() == "the user's own"
+    whole = tmp_path / "whole" / "run-01"
+    for name in ("metrics.csv", "genomes.npy", "fitness.npy", "run.json"):
+        assert (run_dir / name).read_bytes() == (whole / name).read_bytes(), name
 
 
 def test_replay_reproduces_the_stored_fitness(tmp_path):
