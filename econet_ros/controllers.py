@@ -93,6 +93,22 @@ class FeedForwardNetwork(Controller):
     def n_params(self) -> int:
         return self._n_weights
 
+    def weights_reading(self, sense: str) -> np.ndarray:
+        """Bool mask over the flat weight vector: True for every weight that reads one of the
+        sense's input units ("vision", "proprio" or "touch"), wherever the layers put it (a
+        lesion severs a sense with it)."""
+        vision = self.config.model.visual_units
+        senses = {"vision": (0, vision), "proprio": (vision, vision + N_PROPRIO),
+                  "touch": (vision + N_PROPRIO, vision + N_PROPRIO + 1)}   # the input rows
+        if sense not in senses:
+            raise ValueError(f"unknown sense '{sense}' (choose from {', '.join(senses)})")
+        first, stop = senses[sense]
+        mask = []
+        for start, end, out_start, out_stop in self.layers:   # unit by unit, as forward_block
+            reads = np.arange(start, end)                     # the buffer rows a unit reads
+            mask.append(np.tile((reads >= first) & (reads < stop), out_stop - out_start))
+        return np.concatenate(mask)
+
     def load(self, params: np.ndarray, noise_seed: int = 0) -> None:
         params = np.asarray(params, dtype=np.float64)
         if params.ndim != 2 or params.shape[1] != self.n_params or not params.shape[0] or \

@@ -7,12 +7,14 @@ with mutation (genome.mutate; which reading of the paper, config evolution.mutat
 Every random draw comes from a stream named by (seed, run, generation, purpose), so a run is a
 pure function of its seed and can resume from any finished generation.
 The loop that runs generations into a result folder is ``runs.evolve_into``; an ``Evaluator``
-is what it tests populations with (this in-process one, or the node graph's), and an optimizer
-(optimizers.py: this GA, or CMA-ES or an evolution strategy in its place) what breeds them.
+(the contract declared here) is what it tests populations with (``InProcessEvaluator`` here, or
+the node graph's), and an optimizer (optimizers.py: this GA, or CMA-ES or an evolution strategy
+in its place) what breeds them.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -82,8 +84,35 @@ class GenerationResult:
         return self.measures.fitness.sum(axis=1)
 
 
-class Evaluator:
-    """Tests whole populations; owns one world and one controller sized population x trials."""
+@runtime_checkable
+class Evaluator(Protocol):
+    """What ``runs.evolve_into`` tests whole populations with: in process
+    (``InProcessEvaluator``), through the node graph (nodes/graph_evaluator.GraphEvaluator), or
+    any other engine. Every implementation must give the results of the in-process one bit for
+    bit (same trial starts, weights and noise), so that a run's folder does not depend on
+    where it was tested; an engine that cannot do something (e.g. record) raises an
+    EconetError saying so in one line rather than returning less."""
+
+    @property
+    def n_weights(self) -> int:
+        """Weights per econet (the genome's length) of the controller being evolved."""
+
+    def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
+        """The generation's trial starts, one per environment (environment e = econet *
+        trials + trial): ``generation_setups``, so a caller can run one econet's trials again."""
+
+    def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
+                        record: Record = False) -> GenerationResult:
+        """Test one generation's (population, n_weights) genomes exactly as the evolutionary
+        run does (``trial_setups``, ``genome_weights``, ``noise_seed``), scored by
+        ``score_generation``. ``record`` is what the result's ``trace`` holds: False nothing
+        (None), True the full per-cycle ``Trace``, "behaviour" the ``BehaviourRecord`` the
+        study's behaviour rows are computed from."""
+
+
+class InProcessEvaluator(Evaluator):
+    """The Evaluator of this process: owns one world and one controller sized population x
+    trials and runs whole trials in trials.run_trials's compiled loop."""
 
     def __init__(self, config: Config, controller: Controller | None = None):
         e = config.evolution
@@ -97,13 +126,10 @@ class Evaluator:
         return self.controller.n_params
 
     def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
-        """The generation's trial starts, laid out per environment."""
         return generation_setups(self.config, seed, run, generation)
 
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
                         record: Record = False) -> GenerationResult:
-        """Test one generation exactly as the evolutionary run does (same trials and noise);
-        ``record`` as in trials.run_trials."""
         weights = genome_weights(self.config, genomes)
         self.controller.load(weights, noise_seed(seed, run, generation))  # one per econet
         measures, trace = run_trials(self.world, self.controller,

@@ -20,6 +20,7 @@ import numpy as np
 from .errors import ResultsError, UsageError
 
 LOCK_FILE = ".lock"
+TEMPORARY_SUFFIX = ".tmp"      # write_atomically's temporary files: .<name>.<pid>.tmp
 RESUME = ("the finished generations are kept: run the same command again to resume once this "
           "is fixed")
 
@@ -80,9 +81,10 @@ def writing(path: Path, then: str = "") -> Iterator[None]:
 
 def write_atomically(path: Path, text: str) -> None:
     """Replace ``path`` by ``text`` all at once (a temporary file, synced, renamed over it): a
-    kill or a full disk leaves the old file or the new one, never a torn one."""
+    kill or a full disk leaves the old file or the new one, never a torn one (but a kill may
+    leave the temporary file: remove_torn_writes)."""
     path = Path(path)
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    temporary = path.with_name(f".{path.name}.{os.getpid()}{TEMPORARY_SUFFIX}")
     with writing(path):
         try:
             with open(temporary, "w", encoding="utf-8", newline="") as handle:
@@ -91,6 +93,14 @@ def write_atomically(path: Path, text: str) -> None:
                 os.fsync(handle.fileno())
             os.replace(temporary, path)
         finally:
+            temporary.unlink(missing_ok=True)
+
+
+def remove_torn_writes(folder: Path) -> None:
+    """Delete the temporary files that atomic writes into ``folder`` killed midway left behind
+    (.<name>.<pid>.tmp). Only while holding the folder's lock: then nobody is writing one."""
+    for temporary in Path(folder).glob(f".*{TEMPORARY_SUFFIX}"):
+        if temporary.name.rsplit(".", 2)[1].isdigit():
             temporary.unlink(missing_ok=True)
 
 

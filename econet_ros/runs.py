@@ -10,31 +10,40 @@ A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .n
                       population tested in generation g, the last row = the final offspring
     fitness.npy       (generations, population) fitness of every econet
     best_genomes.npy  (generations, n_weights) codes of each generation's fittest econet
+    controller.json   the controller plug-in the run was evolved with (econet evolve
+                      --controller); absent for the condition's own network
     .lock             held by the process writing the folder (a second writer is refused)
 
 metrics.csv is written last for each generation and is the record of what has finished: a run
 interrupted at any point (a kill, a full disk) resumes from its last complete row and produces
 the same files as an uninterrupted run. The arrays are made at full size when the run starts,
 with their space reserved, and filled row by row in place; JSON files are replaced whole
-(files.write_atomically). Every file is checked when read: a damaged one is a one-line error naming
-it. See docs/results-format.md for the meaning of every column.
+(files.write_atomically; a temporary file that a kill left behind is removed on reopening). Every
+file is checked when read: a damaged one is a one-line error naming it. See
+docs/results-format.md for the meaning of every column.
+
+The folder above the run folders (``econet evolve --out``, the supervisor's ``out``) is held with
+``writing_into`` while runs are written into it, which also clears it for --overwrite.
 """
 from __future__ import annotations
 
 import json
-from contextlib import ExitStack
+import shutil
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 import numpy as np
 from tqdm import tqdm
 
 from . import genome as genome_codes
 from .config import Config, ConfigError
-from .errors import ResultsError
-from .evolution import Evaluator, GenerationResult
+from .controllers import Controller
+from .errors import ResultsError, UsageError
+from .evolution import Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
-                    start_table, stored_whole_number, table_rows, write_atomically, writing)
+                    remove_torn_writes, start_table, stored_whole_number, table_rows,
+                    write_atomically, writing)
 from .optimizers import make_optimizer
 from .trials import Record
 
@@ -42,6 +51,8 @@ FORMAT = "econet-run/1"
 GROUPS = ("top", "all")
 MEASURES = ("fitness", "successes", "latency", "separations")
 METRIC_COLUMNS = ["generation", "best_fitness"] + [f"{g}_{m}" for g in GROUPS for m in MEASURES]
+RUN_FOLDERS = "run-*"                  # the run folders under an output folder (run_folder)
+CONTROLLER_FILE = "controller.json"    # which controller plug-in a run folder was evolved with
 
 
 def generation_metrics(result: GenerationResult) -> dict[str, float]:
@@ -77,6 +88,7 @@ class RunStore:
 
     def __enter__(self) -> "RunStore":
         self._held.enter_context(locked(self.path))
+        remove_torn_writes(self.path)
         return self
 
     def __exit__(self, *failure) -> None:
@@ -272,7 +284,7 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     configured optimizer (optimizers.py), and both written before
     ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears how many generations
     the folder already held. Returns the run's generation count."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     n_weights = evaluator.n_weights
     optimizer = make_optimizer(config, n_weights, seed, run)
     with RunStore(folder, config, seed, run, n_weights) as store:
@@ -290,8 +302,66 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     return config.evolution.generations
 
 
+# -- output folders of runs --------------------------------------------------------------------
 def run_folder(out: Path, run: int) -> Path:
+    """The folder of run number ``run`` (from 1) under an output folder: out/run-NN."""
     return Path(out) / f"run-{run:02d}"
+
+
+@contextmanager
+def writing_into(out: Path, overwrite: bool = False,
+                 results: tuple[str, ...] = (RUN_FOLDERS,)) -> Iterator[None]:
+    """Hold ``out``'s lock while results are written into it (a second writer is refused); with
+    ``overwrite``, first delete the results already there (the entries matching the ``results``
+    patterns: by default its run folders), under the lock, so that no one is writing them."""
+    with locked(out):
+        if overwrite:
+            for pattern in results:
+                for old in sorted(Path(out).glob(pattern)):
+                    if old.is_dir():
+                        shutil.rmtree(old)
+                    else:
+                        old.unlink()
+        yield
+
+
+def controller_record(name: str, controller: Controller) -> dict:
+    """What a run folder records (CONTROLLER_FILE) of the controller plug-in it is evolved with,
+    named as the user named it."""
+    cls = type(controller)
+    return {"controller": name, "class": f"{cls.__module__}:{cls.__qualname__}",
+            "n_params": controller.n_params}
+
+
+def record_controller(out: Path, runs: int, record: dict | None) -> None:
+    """Record in out's run folders 1..runs which controller plug-in their runs are evolved with
+    (None: the condition's own network, recorded by having no CONTROLLER_FILE), refusing a
+    folder that holds a run of another controller: runs of different controllers never mix."""
+    for number in range(1, runs + 1):
+        folder = run_folder(out, number)
+        old = read_controller_record(folder)
+        if (folder / "run.json").exists() and old != record:
+            what = (old or {}).get("controller", "the condition's network")
+            wanted = f"--controller {old['controller']}" if old else "no --controller"
+            raise UsageError(f"{folder} holds a run evolved with {what}; use {wanted}, another "
+                             "--out, or --overwrite")
+        if record:
+            folder.mkdir(parents=True, exist_ok=True)
+            write_atomically(folder / CONTROLLER_FILE, json.dumps(record, indent=2) + "\n")
+
+
+def read_controller_record(run_dir: Path) -> dict | None:
+    """The controller plug-in a run folder records (None: the condition's network)."""
+    path = Path(run_dir) / CONTROLLER_FILE
+    if not path.exists():
+        return None
+    try:
+        record = read_json_object(path)
+        if not isinstance(record.get("controller"), str):
+            raise ResultsError(f"{path} is damaged (no controller name)")
+    except ResultsError as error:
+        raise ResultsError(f"{error}; choose another --out or pass --overwrite") from None
+    return record
 
 
 def finished_generations(run_dir: Path) -> int:
@@ -310,7 +380,7 @@ def run_condition(config: Config, runs: int, seed: int, out: Path, progress: boo
     """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
     were interrupted, calling on_generation(run, result, offspring) after each generation;
     returns a short human-readable summary."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     generations = config.evolution.generations
     done = sum(finished_generations(run_folder(out, run)) for run in range(1, runs + 1))
     with tqdm(total=runs * generations, initial=done, desc=config.evolution.condition,
@@ -331,7 +401,7 @@ def summarize(out: Path, runs: int) -> str:
     for run in range(1, runs + 1):
         data = RunData(run_folder(out, run))
         top, best = data.metrics["top_fitness"], int(data.metrics["best_fitness"][-1])
-        lines.append(f"  run-{run:02d}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
+        lines.append(f"  {data.path.name}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
                      f"(gen {data.generations_done - 1}), best {best}")
     lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
                  "genomes.npy, fitness.npy, best_genomes.npy")
@@ -344,7 +414,7 @@ def replay(run_dir: Path, generation: int, record: Record = True,
     result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...), with
     record="behaviour" only the BehaviourRecord of the study's behaviour rows."""
     data = RunData(run_dir)
-    evaluator = evaluator or Evaluator(data.config)
+    evaluator = evaluator or InProcessEvaluator(data.config)
     return evaluator.test_generation(data.genomes(generation), data.seed, data.run, generation,
                                      record)
 

@@ -26,7 +26,7 @@ def generate_launch_description():
         Node(package="econet_ros", executable="world_node", name="world",
              parameters=[{"config": c["config"]}]),
         Node(package="econet_ros", executable="controller_node", name="controller",
-             parameters=[{"network": c["condition"], "config": c["config"]}]),
+             parameters=[{"controller": c["condition"], "config": c["config"]}]),
         Node(package="econet_ros", executable="supervisor_node", name="supervisor",
              parameters=[{name: c[name] for name in ARGS}], output="screen"),
     ])

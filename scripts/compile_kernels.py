@@ -28,7 +28,7 @@ import numpy as np
 import econet_ros
 from econet_ros import KERNEL_MODULES
 from econet_ros.config import CONDITIONS, Config
-from econet_ros.evolution import Evaluator
+from econet_ros.evolution import InProcessEvaluator
 from econet_ros.nodes.lockstep_wire import SensorMessages
 from econet_ros.plugins import make_controller
 from econet_ros.runs import evolve_into
@@ -44,7 +44,7 @@ def warm_every_path() -> None:
     with tempfile.TemporaryDirectory(prefix="econet-compile-") as folder:
         for condition in CONDITIONS:
             config = Config().replace(**TINY, **{"evolution.condition": condition})
-            evaluator = Evaluator(config)
+            evaluator = InProcessEvaluator(config)
             evolve_into(Path(folder) / condition / "run-01", config, 1, 1, evaluator)
             run_with_behaviour(config, 1, 1, Path(folder) / condition / "study-01", evaluator)
             warm_per_cycle(config)

@@ -4,15 +4,13 @@ from __future__ import annotations
 
 import argparse
 import os
-import shutil
 import time
 from pathlib import Path
 
-from ..config import CONDITIONS
 from ..errors import UsageError
-from ..files import locked
+from ..runs import writing_into
 from ..science.report import build_report, report_paths
-from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, StudySpec, run_study
+from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, STUDY_RESULTS, StudySpec, run_study
 from .options import add_config_options, add_run_options, config_from, positive
 
 
@@ -79,11 +77,7 @@ def run(args: argparse.Namespace) -> int:
     for changes in variants.values():
         config.replace(**changes)          # fail now on a variant that cannot work
     out = Path(args.out)
-    with locked(out):
-        if args.overwrite:
-            for sub in (*CONDITIONS, "sensitivity", "figures"):
-                shutil.rmtree(out / sub, ignore_errors=True)
-            (out / "study.json").unlink(missing_ok=True)
+    with writing_into(out, overwrite=args.overwrite, results=STUDY_RESULTS):
         report_paths(out, args.report, args.figures)
         spec = StudySpec(config, args.runs, args.seed, variants,
                          args.sensitivity_runs if sensitivity else None)

@@ -27,11 +27,8 @@ MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sens
 
 
 PARAMETERS = (
-    Param("controller", "", "a registered name (normal, three-layer, random, reacher, or a "
-                            "plug-in's entry point) or module:Class; empty = the network "
-                            "parameter"),
-    Param("network", "normal", "older name of the controller parameter (used when controller "
-                               "is empty)"),
+    Param("controller", "normal", "a registered name (normal, three-layer, random, reacher, or "
+                                  "a plug-in's entry point) or module:Class"),
     Param("config", "", "JSON config file (as econet --config); its model and network sections "
                         "size the network; empty = defaults"),
     Param("n_envs", 1, "environments at start-up (set_weights may change it)", low=1,
@@ -46,18 +43,18 @@ class ControllerNode(Node):
     def __init__(self):
         super().__init__("controller")
         v = declare_parameters(self, PARAMETERS)
-        self.network = v["controller"] or v["network"]
+        self.controller_name = v["controller"]
         self.config = node_config(v["config"])
         default_from(self, v, {"max_abs_weight": self.config.evolution.weight_range})
         self.max_abs, n_envs = v["max_abs_weight"], v["n_envs"]
         try:
-            self.cls = resolve(self.network)
+            self.cls = resolve(self.controller_name)
             self.controller = self.cls(n_envs, self.config)
             self._compile_kernels()
         except PluginError:
             raise
         except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
-            raise ConfigError(f"controller '{self.network}' failed to start: "
+            raise ConfigError(f"controller '{self.controller_name}' failed to start: "
                               f"{type(error).__name__}: {error}") from None
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
         self.command = CommandMessage(n_envs)
@@ -69,7 +66,7 @@ class ControllerNode(Node):
             graph.subscription(self, part, lambda data, gid, part=part: self._on_part(
                 part, data, gid), raw=True, with_publisher=True)
         graph.service(self, "set_weights", self._on_set_weights)
-        self.get_logger().info(f"controller ready: {self.network} ({self.cls.__module__}:"
+        self.get_logger().info(f"controller ready: {self.controller_name} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")
 
@@ -107,18 +104,20 @@ class ControllerNode(Node):
 
     def _check(self, request) -> str | None:
         """Why a weight swap cannot be applied (None if it can); nothing is changed here."""
-        if request.network and request.network != self.network:
-            return (f"this controller runs the '{self.network}' network, the request expects "
-                    f"'{request.network}'")
+        # SetWeights names the controller it expects in its field `network`
+        if request.network and request.network != self.controller_name:
+            return (f"this controller runs the '{self.controller_name}' network, the request "
+                    f"expects '{request.network}'")
         expected = self.controller.n_params
         if request.weights_per_network != expected:
             return (f"weights_per_network is {request.weights_per_network}, the "
-                    f"{self.network} network has {expected} weights")
+                    f"{self.controller_name} network has {expected} weights")
         if not 1 <= request.n_envs <= MAX_ENVS:
             return f"n_envs must be between 1 and {MAX_ENVS}, got {request.n_envs}"
         if expected == 0:       # nothing to load (e.g. the reacher): only the batch size
-            return None if not len(request.weights) else \
-                f"the {self.network} controller takes no weights, got {len(request.weights)}"
+            return None if not len(request.weights) else (
+                f"the {self.controller_name} controller takes no weights, got "
+                f"{len(request.weights)}")
         networks, left = divmod(len(request.weights), max(expected, 1))
         if left or not networks or request.n_envs % networks:
             return (f"got {len(request.weights)} weights: expected n_networks x "

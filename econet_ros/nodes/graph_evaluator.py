@@ -1,6 +1,7 @@
-"""The supervisor's Evaluator: tests a generation through the world and controller nodes
-instead of in process, with exactly the in-process trial starts, weights and noise, so that
-``runs.evolve_into`` writes the same result folders either way.
+"""The supervisor's Evaluator (the contract of evolution.Evaluator): tests a generation through
+the world and controller nodes instead of in process, with exactly the in-process trial starts,
+weights and noise, so that ``runs.evolve_into`` writes the same result folders either way. It
+hears only touch, so it scores fitness but records no per-cycle trace.
 
 Per batch of trials it swaps the controller's weights (set_weights), starts the trials in the
 world (reset_trials), lets world and controller run the cycles in lockstep and scores fitness
@@ -21,10 +22,10 @@ from rclpy.node import Node
 
 from ..config import Config
 from ..errors import GraphError
-from ..evolution import GenerationResult, genome_weights, noise_seed, score_generation
-from ..evolution import generation_setups
+from ..evolution import (Evaluator, GenerationResult, generation_setups, genome_weights,
+                         noise_seed, score_generation)
 from ..topics import COMMAND, LOCKSTEP, SENSORS, SERVICES
-from ..trials import TrialMeasures
+from ..trials import Record, TrialMeasures
 from ..world import TrialSetup
 from . import graph
 from .runner import check_stop
@@ -42,11 +43,14 @@ class BatchFailed(GraphError):
     """A batch of trials could not finish through the graph; it is run again from its start."""
 
 
-class GraphEvaluator:
-    def __init__(self, node: Node, config: Config, network: str, n_weights: int,
+class GraphEvaluator(Evaluator):
+    """Tests generations through the graph for ``node`` (the supervisor); ``controller`` is
+    the name the controller node must run (set_weights refuses otherwise; empty: any)."""
+
+    def __init__(self, node: Node, config: Config, controller: str, n_weights: int,
                  stall_timeout: float, service_timeout: float, recorder=None):
-        self.node, self.config, self.network = node, config, network
-        self.n_weights = n_weights
+        self.node, self.config, self.controller = node, config, controller
+        self._n_weights = n_weights
         self.stall_timeout, self.service_timeout = stall_timeout, service_timeout
         self.recorder = recorder
         self.executor = None                 # set once the node is spinning
@@ -59,13 +63,19 @@ class GraphEvaluator:
         self.set_weights = graph.client(node, "set_weights")
         self.reset_trials = graph.client(node, "reset_trials")
 
-    # -- the Evaluator interface ------------------------------------------------------------
+    # -- the Evaluator contract -------------------------------------------------------------
+    @property
+    def n_weights(self) -> int:
+        return self._n_weights
+
     def trial_setups(self, seed: int, run: int, generation: int) -> TrialSetup:
         return generation_setups(self.config, seed, run, generation)
 
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
-                        record: bool = False) -> GenerationResult:
-        """Like evolution.Evaluator.test_generation, with world and controller as nodes."""
+                        record: Record = False) -> GenerationResult:
+        if record:
+            raise GraphError(f"the graph evaluator records no per-cycle trace (record={record!r}): "
+                             "re-test the generation in process (runs.replay) for one")
         setup = self.trial_setups(seed, run, generation)
         requests = self.requests(genomes, setup, seed, run, generation)
         contact = self.run_batch(*requests, where=f"run {run} generation {generation}")
@@ -81,7 +91,7 @@ class GraphEvaluator:
         weights_request = graph.service_class("set_weights").Request(
             n_envs=len(setup), weights_per_network=weights.shape[1],
             weights=graph.f64(weights), noise_seed=noise_seed(seed, run, generation),
-            network=self.network)
+            network=self.controller)
         reset_request = graph.service_class("reset_trials").Request(
             n_envs=len(setup), cycles=self.config.evolution.cycles, seed=0,
             object_xy=graph.f64(setup.object_xy), body_deg=graph.f64(setup.body),

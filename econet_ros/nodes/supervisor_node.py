@@ -20,7 +20,6 @@ Calls       set_weights (econet_msgs/SetWeights), reset_trials (econet_msgs/Rese
 from __future__ import annotations
 
 import json
-import shutil
 import sys
 import time
 from pathlib import Path
@@ -36,7 +35,7 @@ from ..errors import ConfigError
 from ..evolution import GenerationResult
 from ..plugins import resolve
 from ..files import ensure_writable
-from ..runs import run_condition
+from ..runs import run_condition, run_folder, writing_into
 from . import graph
 from .graph_evaluator import GraphEvaluator
 from .runner import Param, declare_parameters, default_from, node_config, run_node
@@ -58,7 +57,8 @@ RUN_PARAMETERS = (
     Param("record_every", 0, "record the best econet's trials as a bag every this many "
                              "generations (and the last); 0 = never", low=0),
     Param("record_dir", "", "folder of the bags; empty = <out>/bags"),
-    Param("overwrite", False, "delete out/run-* first instead of resuming them"),
+    Param("overwrite", False, "delete out/run-* first instead of resuming them (under out's "
+                              "lock, as econet evolve --overwrite)"),
     Param("stall_timeout_sec", 3.0, "test a generation again when no new cycle arrives for "
                                     "this long (a cycle the world sends again is not new)",
           low=0.01),
@@ -127,7 +127,7 @@ class SupervisorNode(Node):
             run=run, generation=result.generation, generations=generations,
             best_fitness=int(fitness.max()), top_fitness=top,
             mean_fitness=float(fitness.mean()), seconds=seconds,
-            folder=str(self.out / f"run-{run:02d}")))
+            folder=str(run_folder(self.out, run))))
         self.get_logger().info(
             f"run {run} generation {result.generation + 1}/{generations}: best "
             f"{int(fitness.max())}, parents' mean {top:.1f}, population mean "
@@ -142,7 +142,7 @@ class SupervisorNode(Node):
         """Run the generation's best econet's trials again, recording them into a bag."""
         seed, trials, generation = self.v["seed"], self.config.evolution.trials, \
             result.generation
-        bag = self.record_dir / f"run-{run:02d}" / f"gen-{generation:04d}"
+        bag = run_folder(self.record_dir, run) / f"gen-{generation:04d}"
         if bag.exists():
             return None                         # recorded before an interruption
         best = int(result.parents[0])
@@ -165,17 +165,15 @@ class SupervisorNode(Node):
     # -- the experiment -------------------------------------------------------------------------
     def evolve(self) -> int:
         v, e = self.v, self.config.evolution
-        if v["overwrite"]:
-            for old in self.out.glob("run-*"):
-                shutil.rmtree(old)
-        self.evaluator.wait_for_graph()
-        self.get_logger().info(
-            f"evolving {v['runs']} run(s) x {e.generations} generations of {e.population} "
-            f"{e.condition} econets x {e.trials} trials x {e.cycles} cycles into {self.out}")
-        self.started = time.monotonic()
-        summary = run_condition(
-            self.config, v["runs"], v["seed"], self.out, progress=False,
-            evaluator=self.evaluator, on_generation=self.on_generation)
+        with writing_into(self.out, overwrite=v["overwrite"]):
+            self.evaluator.wait_for_graph()
+            self.get_logger().info(
+                f"evolving {v['runs']} run(s) x {e.generations} generations of {e.population} "
+                f"{e.condition} econets x {e.trials} trials x {e.cycles} cycles into {self.out}")
+            self.started = time.monotonic()
+            summary = run_condition(
+                self.config, v["runs"], v["seed"], self.out, progress=False,
+                evaluator=self.evaluator, on_generation=self.on_generation)
         self.get_logger().info(summary.replace("\n", " |"))
         # Stay a moment so that monitors, including ones that match only now, receive the last
         # progress messages (the transient-local history goes away with the process).

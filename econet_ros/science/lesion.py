@@ -7,11 +7,12 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Config
+from ..controllers import FeedForwardNetwork
 from ..evolution import genome_weights, rng_for, select_parents
 from ..plugins import make_controller
 from ..runs import RunData
 from ..trials import Trace, run_trials
-from ..world import N_PROPRIO, TrialSetup, World, sample_setups
+from ..world import TrialSetup, World, sample_setups
 from .measures import summarize_reaches
 
 LESION_TRIALS = 50     # fresh trials per selected econet in the lesion test
@@ -19,24 +20,13 @@ LESION_PURPOSE = 7     # random stream (evolution.rng_for) used for the lesion t
 
 
 def input_weight_mask(config: Config, condition: str, sense: str = "proprio") -> np.ndarray:
-    """Bool mask over a network's flat weight vector: True for every weight leaving one of the
-    four proprioceptive input units (sense "proprio") or the visual ones ("vision"); see
-    controllers.py for the layout."""
-    vis, net = config.model.visual_units, config.network
-    n = make_controller(condition, 1, config).n_params
-    mask = np.zeros(n, dtype=bool)
-    first, count = (vis, N_PROPRIO) if sense == "proprio" else (0, vis)
-    if condition == "normal":              # each sense feeds its own intramodal layer
-        start = vis * net.visual_hidden if sense == "proprio" else 0
-        mask[start:start + count * (net.proprio_hidden if sense == "proprio"
-                                    else net.visual_hidden)] = True
-    elif condition == "three-layer":
-        n_in = vis + N_PROPRIO + 1
-        for k in range(net.three_layer_hidden):
-            mask[k * n_in + first:k * n_in + first + count] = True
-    else:
+    """Bool mask over a condition's flat weight vector: True for every weight leaving one of the
+    four proprioceptive input units (sense "proprio") or the visual ones ("vision"), as the
+    network lays its weights out (controllers.FeedForwardNetwork.weights_reading)."""
+    network = make_controller(condition, 1, config)
+    if not isinstance(network, FeedForwardNetwork):
         raise ValueError(f"no input weights in condition '{condition}'")
-    return mask
+    return network.weights_reading(sense)
 
 
 def proprioceptive_weight_mask(config: Config, condition: str) -> np.ndarray:

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..config import CONDITIONS, Config, ConfigError
 from ..errors import ResultsError
-from ..evolution import Evaluator
+from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
 from ..runs import METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay, run_folder
@@ -35,6 +35,8 @@ from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
 BEHAVIOUR_FILE = "behaviour.csv"
+# What a study writes into its folder (beside report.md), all deleted by --overwrite.
+STUDY_RESULTS = (*CONDITIONS, "sensitivity", "figures", "study.json")
 
 # Built-in sensitivity variants: name -> settings changed from the study's base config.
 SENSITIVITY = {
@@ -167,10 +169,10 @@ def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path
 
 # -- one run, with behaviour rows ----------------------------------------------------------------
 def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
-                       evaluator=None) -> int:
+                       evaluator: Evaluator | None = None) -> int:
     """Evolve (or resume) one run into run_dir, writing behaviour.csv alongside metrics.csv.
     Returns the number of generations finished."""
-    evaluator = evaluator or Evaluator(config)
+    evaluator = evaluator or InProcessEvaluator(config)
     trials = config.evolution.trials
     path = Path(run_dir) / BEHAVIOUR_FILE
 

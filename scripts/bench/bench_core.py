@@ -28,7 +28,7 @@ import numpy as np
 from econet_ros.config import CONDITIONS, Config
 from econet_ros.controllers import _forward_batch
 from econet_ros.plugins import make_controller
-from econet_ros.evolution import Evaluator
+from econet_ros.evolution import InProcessEvaluator
 from econet_ros.runs import evolve_into
 from econet_ros.world import World, _sense_batch, sample_setups
 
@@ -50,7 +50,7 @@ def main() -> None:
     config = Config().replace(**{"evolution.condition": args.condition,
                                  "evolution.generations": args.generations})
     e = config.evolution
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     evolve(config.replace(**{"evolution.generations": 1}), 99, evaluator)  # compile
 
     start = time.perf_counter()
@@ -77,7 +77,7 @@ def main() -> None:
     pstats.Stats(profile).sort_stats("tottime").print_stats(6)
 
 
-def evolve(config: Config, seed: int, evaluator: Evaluator) -> None:
+def evolve(config: Config, seed: int, evaluator: InProcessEvaluator) -> None:
     """One run through the loop every command uses, result files included, into a folder
     that is thrown away."""
     with tempfile.TemporaryDirectory(prefix="econet-bench-") as folder:
@@ -116,7 +116,7 @@ def per_cycle(config: Config, n_envs: int = 2000, n_networks: int = 100) -> None
         print(f"{name:28s} {best * 1e3:.3f} ms per call")
 
 
-def evaluator_genomes(evaluator: Evaluator):
+def evaluator_genomes(evaluator: InProcessEvaluator):
     from econet_ros.evolution import initial_genomes
     return initial_genomes(evaluator.config, evaluator.n_weights, 1, 1)
 

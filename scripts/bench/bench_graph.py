@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark the node graph against its floor, in one run:
 
-  1. in-process: the core's Evaluator.test_generation for one generation (no ROS);
+  1. in-process: the core's InProcessEvaluator.test_generation for one generation (no ROS);
   2. bare round trip: ping-pong of a tiny message between two processes (rclpy, same executor
      as the nodes), the cost of one lockstep cycle that does no work;
   3. messaging alone: the graph's four lockstep messages of a paper-size cycle (touch,
@@ -309,9 +309,9 @@ def parse_args() -> argparse.Namespace:
 
 def in_process(args) -> tuple[float, list, object]:
     """Median seconds of an in-process generation, each generation's fitness, the genomes."""
-    from econet_ros.evolution import Evaluator, initial_genomes
+    from econet_ros.evolution import InProcessEvaluator, initial_genomes
 
-    evaluator = Evaluator(args.config)
+    evaluator = InProcessEvaluator(args.config)
     genomes = initial_genomes(args.config, evaluator.n_weights, 1, 1)
     evaluator.test_generation(genomes, 1, 1, 0)          # warm up (numba)
     times, fitness = [], []

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Benchmark of the Gymnasium vector environment and the other optimizers, in one run:
 
-  1. the in-process engine (Evaluator.test_generation: whole trials in one compiled loop, the
-     network included) in econet-cycles per second, paper-size generations of 2000 envs;
+  1. the in-process engine (InProcessEvaluator.test_generation: whole trials in one compiled
+     loop, the network included) in econet-cycles per second, paper-size generations of 2000 envs;
   2. the Gymnasium vector environment with 2000 environments stepped by a fixed action array
      (no Python-side policy), and the paper's network's own compiled forward on the same
      observations timed separately; target: the vector env at least 0.5x the engine's rate;
@@ -25,7 +25,7 @@ import numpy as np
 
 from econet_ros.config import Config
 from econet_ros.controllers import FourLayerNetwork
-from econet_ros.evolution import Evaluator, genome_weights, initial_genomes
+from econet_ros.evolution import InProcessEvaluator, genome_weights, initial_genomes
 from econet_ros.gym import ReachVectorEnv
 from econet_ros.runs import evolve_into
 
@@ -76,7 +76,7 @@ class Rates:
         e = config.evolution
         self.n = e.population * e.trials
         self.steps = 5 * (e.cycles + 1)
-        self.evaluator = Evaluator(config)
+        self.evaluator = InProcessEvaluator(config)
         self.genomes = initial_genomes(config, self.evaluator.n_weights, 1, 1)
         self.envs = ReachVectorEnv(self.n, config)
         self.obs, _ = self.envs.reset(seed=1)
@@ -106,7 +106,7 @@ class Rates:
 def run_seconds(config: Config) -> tuple[float, float]:
     """Wall time of one whole run into a scratch folder, and the part spent testing
     generations (the rest: breeding and writing)."""
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     test_generation, tests = evaluator.test_generation, [0.0]
 
     def timed(*args, **kwargs):

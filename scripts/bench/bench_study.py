@@ -19,7 +19,7 @@ from pathlib import Path
 import numba
 
 from econet_ros.config import CONDITIONS, Config
-from econet_ros.evolution import Evaluator
+from econet_ros.evolution import InProcessEvaluator
 from econet_ros.runs import evolve_into
 from econet_ros.science.study import run_with_behaviour
 
@@ -33,7 +33,7 @@ def main() -> None:
     args = parser.parse_args()
     config = Config().replace(**{"evolution.condition": args.condition,
                                  "evolution.generations": args.generations})
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     ways = {"bare": lambda folder: evolve_into(folder, config, 1, 1, evaluator),
             "study": lambda folder: run_with_behaviour(config, 1, 1, folder, evaluator)}
     for way in ways.values():      # compile

@@ -394,6 +394,7 @@ def test_a_kill_mid_write_then_a_resume_gives_the_undisturbed_files(tmp_path, re
     assert killed.returncode == -signal.SIGKILL, killed.stderr
     assert main(["evolve", "--out", str(out), *TINY]) == 0
     assert_same_run(out / "run-01", reference["tiny"])
+    assert not list((out / "run-01").glob(".*.tmp"))     # a killed rename's temporary file
 
 
 # -- a full disk ----------------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 """The networks: batching weights per econet must not change a bit, the weight counts and refusals,
-and the vectorised logistic is the scalar formula."""
+which weights read which sense, and the vectorised logistic is the scalar formula."""
 import math
 
 import numba
@@ -56,6 +56,34 @@ def _logistic(total):
     out = np.empty_like(total)
     logistic(total, out)
     return out
+
+
+SENSES = {"vision": slice(0, 8), "proprio": slice(8, 12), "touch": slice(12, 13)}
+
+
+@pytest.mark.parametrize("condition", ["normal", "three-layer"])
+@pytest.mark.parametrize("sense", SENSES)
+def test_weights_reading_a_sense_are_all_that_carry_it(condition, sense):
+    """With the weights the network says read a sense set to zero, that sense's inputs change
+    nothing; every other weight is left, and the senses' weights are apart."""
+    net = make_controller(condition, 2, CONFIG)
+    mask = net.weights_reading(sense)
+    others = [net.weights_reading(other) for other in SENSES if other != sense]
+    assert mask.shape == (net.n_params,) and mask.any()
+    assert not any((mask & other).any() for other in others)
+    inputs = np.repeat(np.random.default_rng(4).random((1, 13)), 2, axis=0)
+    inputs[1, SENSES[sense]] = 1.0 - inputs[0, SENSES[sense]]     # only this sense differs
+    weights = np.random.default_rng(5).uniform(-10, 10, (1, net.n_params))
+    net.load(np.repeat(weights, 2, axis=0))
+    assert not np.allclose(*net.forward(inputs))
+    weights[:, mask] = 0.0
+    net.load(np.repeat(weights, 2, axis=0))
+    np.testing.assert_array_equal(*net.forward(inputs))
+
+
+def test_weights_reading_refuses_an_unknown_sense():
+    with pytest.raises(ValueError, match="unknown sense 'smell'"):
+        make_controller("normal", 1, CONFIG).weights_reading("smell")
 
 
 def test_logistic_matches_the_scalar_formula_everywhere():

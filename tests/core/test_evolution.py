@@ -1,9 +1,16 @@
-"""Selection, offspring, determinism and learning of the evolutionary algorithm."""
+"""Selection, offspring, determinism and learning of the evolutionary algorithm, and the
+Evaluator contract its engines keep."""
+import importlib
+import inspect
+
 import numpy as np
+import pytest
 
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.evolution import GenerationResult, next_generation, select_parents
+from econet_ros.errors import GraphError
+from econet_ros.evolution import (Evaluator, GenerationResult, InProcessEvaluator,
+                                  next_generation, select_parents)
 from econet_ros.runs import evolve_into
 from econet_ros.trials import TrialMeasures
 
@@ -65,3 +72,45 @@ def test_normal_condition_clearly_beats_random_movement(tmp_path):
 
     normal, random = late_top_fitness("normal"), late_top_fitness("random")
     assert normal > 3 * random, (normal, random)
+
+
+def graph_evaluator_class():
+    """nodes/graph_evaluator.GraphEvaluator (imports rclpy; starts nothing)."""
+    pytest.importorskip("rclpy")
+    return importlib.import_module("econet_ros.nodes.graph_evaluator").GraphEvaluator
+
+
+def parameters(method) -> list[tuple]:
+    return [(p.name, p.kind, p.default) for p in inspect.signature(method).parameters.values()]
+
+
+@pytest.mark.parametrize("engine", [lambda: InProcessEvaluator, graph_evaluator_class],
+                         ids=["in-process", "graph"])
+def test_every_engine_declares_the_evaluator_contract(engine):
+    cls = engine()
+    assert Evaluator in cls.__mro__                  # declared, not merely alike
+    assert isinstance(inspect.getattr_static(cls, "n_weights"), property)
+    for name in ("trial_setups", "test_generation"):
+        assert parameters(getattr(cls, name)) == parameters(getattr(Evaluator, name)), name
+
+
+def test_the_in_process_engine_keeps_the_contract_and_records_on_request():
+    config = small_config(**{"evolution.population": 4, "evolution.parents": 2,
+                             "evolution.trials": 2, "evolution.cycles": 10})
+    evaluator = InProcessEvaluator(config)
+    assert isinstance(evaluator, Evaluator)
+    genomes = genome.random_genomes(np.random.default_rng(1), 4, evaluator.n_weights, 8)
+    assert evaluator.test_generation(genomes, 1, 1, 0).trace is None
+    assert evaluator.test_generation(genomes, 1, 1, 0, record=True).trace.motor.shape == \
+        (10, 8, 5)
+    assert type(evaluator.test_generation(genomes, 1, 1, 0, "behaviour").trace).__name__ == \
+        "BehaviourRecord"
+
+
+@pytest.mark.parametrize("record", [True, "behaviour"])
+def test_the_graph_evaluator_refuses_to_record_in_one_line(record):
+    """It hears only touch: asked for a trace it says so instead of returning none."""
+    evaluator = object.__new__(graph_evaluator_class())      # no node: it refuses first
+    with pytest.raises(GraphError, match="records no per-cycle trace") as refused:
+        evaluator.test_generation(np.zeros((4, 3), dtype=np.uint8), 1, 1, 0, record)
+    assert "\n" not in str(refused.value)

@@ -8,7 +8,7 @@ import pytest
 from econet_ros.cli import main
 from econet_ros.config import Config, ConfigError
 from econet_ros.errors import ResultsError
-from econet_ros.evolution import Evaluator, genome_weights
+from econet_ros.evolution import InProcessEvaluator, genome_weights
 from econet_ros.optimizers import centred_ranks, fold_into_range
 from econet_ros.runs import RunData, replay, run_condition
 
@@ -50,7 +50,7 @@ class Interrupt(Exception):
 
 def interrupted_at(config, generation):
     """An evaluator that fails when it reaches ``generation``."""
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     original = evaluator.test_generation
 
     def test_generation(genomes, seed, run, number, record=False):

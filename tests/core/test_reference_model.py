@@ -26,7 +26,7 @@ import pytest
 import reference_model as ref
 from econet_ros import genome
 from econet_ros.config import Config
-from econet_ros.evolution import (Evaluator, genome_weights, initial_genomes,
+from econet_ros.evolution import (InProcessEvaluator, genome_weights, initial_genomes,
                                   next_generation)
 from econet_ros.plugins import make_controller
 from econet_ros.trials import run_trials
@@ -69,7 +69,7 @@ def champions() -> dict[str, np.ndarray]:
         config = Config().replace(**{"evolution.condition": condition,
                                      "evolution.population": 50, "evolution.parents": 10,
                                      "evolution.trials": 10})
-        evaluator = Evaluator(config)
+        evaluator = InProcessEvaluator(config)
         genomes = initial_genomes(config, evaluator.n_weights, 1, 1)
         for generation in range(15):
             result = evaluator.test_generation(genomes, 1, 1, generation)

@@ -13,7 +13,7 @@ import econet_ros.gym  # noqa: F401  (registers econet_ros/Reach-v0)
 from econet_ros.config import Config
 from econet_ros.controllers import FourLayerNetwork
 from econet_ros.errors import ActionError, SetupError
-from econet_ros.evolution import Evaluator, genome_weights, initial_genomes
+from econet_ros.evolution import InProcessEvaluator, genome_weights, initial_genomes
 from econet_ros.gym import ReachEnv, ReachVectorEnv
 from econet_ros.world import sample_setups
 
@@ -47,7 +47,7 @@ def test_module_prefixed_id_registers_without_an_import():
 
 def econet_fitness_in_process(config, seed=4):
     """Generation 0 of a run: genomes, its trial starts and each econet's fitness."""
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
     result = evaluator.test_generation(genomes, seed, 1, 0)
     return genome_weights(config, genomes), evaluator.trial_setups(seed, 1, 0), result.fitness

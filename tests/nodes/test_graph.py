@@ -20,7 +20,7 @@ from econet_msgs.msg import (EvolutionProgress, MuscleCommand, Proprioception, R
                               Touch)
 from econet_msgs.srv import ResetTrials, SetWeights  # noqa: E402
 from econet_ros.config import Config  # noqa: E402
-from econet_ros.evolution import Evaluator, initial_genomes  # noqa: E402
+from econet_ros.evolution import Evaluator, InProcessEvaluator, initial_genomes  # noqa: E402
 from econet_ros.runs import run_condition  # noqa: E402
 from econet_ros.nodes import graph as common  # noqa: E402
 from econet_ros.nodes.runner import make_executor  # noqa: E402
@@ -128,7 +128,7 @@ def test_weight_service_errors_keep_old_weights(graph, ros):
     client = graph.create_client(SetWeights, "set_weights")
     config = small_config()
     n = 3
-    k = Evaluator(config).n_weights
+    k = InProcessEvaluator(config).n_weights
     good = np.random.default_rng(5).uniform(-10, 10, (n, k))
     ok = call(ros, client, SetWeights.Request(n_envs=n, weights_per_network=k,
                                               weights=common.f64(good), network="normal"))
@@ -244,7 +244,7 @@ def test_lockstep_world_steps_once_per_matching_command(procs, ros):
 def equivalence(procs, ros, namespace, condition, generation=1):
     """Test one generation through the graph (this process as supervisor) and in-process."""
     procs.start("world", namespace)
-    procs.start("controller", namespace, f"network:={condition}")
+    procs.start("controller", namespace, f"controller:={condition}")
     config = small_config(condition)
     sup = SupervisorNode(namespace=namespace, parameter_overrides=[
         Parameter(k, value=v) for k, v in {**SMALL, "condition": condition,
@@ -252,7 +252,7 @@ def equivalence(procs, ros, namespace, condition, generation=1):
     sup.evaluator.executor = ros
     ros.add_node(sup)
     sup.evaluator.wait_for_graph()
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     genomes = initial_genomes(config, evaluator.n_weights, 3, 1)
     graph_result = sup.evaluator.test_generation(genomes, 3, 1, generation)
     expected = evaluator.test_generation(genomes, 3, 1, generation)
@@ -262,6 +262,7 @@ def equivalence(procs, ros, namespace, condition, generation=1):
 @pytest.mark.parametrize("condition", ["normal", "three-layer", "random"])
 def test_fitness_through_graph_equals_in_process(procs, ros, condition):
     got, want, sup = equivalence(procs, ros, f"/eq_{condition.replace('-', '_')}", condition)
+    assert isinstance(sup, Evaluator)
     assert got.fitness.shape == (SMALL["population"],)
     assert want.fitness.sum() > 0        # some contact: the comparison is not all zeros
     np.testing.assert_array_equal(got.fitness, want.fitness)          # econet by econet
@@ -281,7 +282,7 @@ def test_lockstep_under_load_no_cycle_skipped_or_repeated(graph, ros):
     spin_until(ros, lambda: sensed.get_publisher_count() > 0, what="the world's retina")
     reset = graph.create_client(ResetTrials, "reset_trials")
     weights = graph.create_client(SetWeights, "set_weights")
-    k = Evaluator(small_config()).n_weights
+    k = InProcessEvaluator(small_config()).n_weights
     call(ros, weights, SetWeights.Request(
         n_envs=50, weights_per_network=k,
         weights=common.f64(np.random.default_rng(1).uniform(-10, 10, (50, k)))))
@@ -378,7 +379,7 @@ def test_supervisor_survives_a_vanished_controller(procs, ros, tmp_path):
 
 def test_bad_parameter_is_one_line_error(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "econet_ros.nodes.controller_node",
-                           "--ros-args", "-p", "network:=five-layer"], cwd=REPO,
+                           "--ros-args", "-p", "controller:=five-layer"], cwd=REPO,
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr.strip().splitlines() == [

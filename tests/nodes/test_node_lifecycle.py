@@ -124,7 +124,7 @@ def test_signals_end_every_node_quietly(ros, tmp_path, round_):
                                         "display_rate_hz:=0"]
     started = {"world": procs.start("world", ns, *world_params),
                "controller": procs.start("controller", ns, "controller:=reacher"
-                                         if not lockstep else "network:=normal"),
+                                         if not lockstep else "controller:=normal"),
                "recorder": procs.start("recorder", ns, f"out:={tmp_path / 'bag'}")}
     if lockstep:
         started["supervisor"] = procs.start(

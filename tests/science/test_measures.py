@@ -149,11 +149,11 @@ def test_behaviour_row_groups_top_econets():
 def test_recorded_behaviour_row_equals_the_trace_one_to_the_last_bit(settings):
     """The study's behaviour row, from the compiled loop's BehaviourRecord, is the one
     behaviour_row computes from a full Trace of the same trials (repr: every bit, NaN too)."""
-    from econet_ros.evolution import Evaluator, initial_genomes
+    from econet_ros.evolution import InProcessEvaluator, initial_genomes
 
     config = Config().replace(**{"evolution.population": 12, "evolution.parents": 3,
                                  "evolution.trials": 6, "evolution.cycles": 60, **settings})
-    evaluator = Evaluator(config)
+    evaluator = InProcessEvaluator(config)
     genomes = initial_genomes(config, evaluator.n_weights, 5, 1)
     full = evaluator.test_generation(genomes, 5, 1, 0, record=True)
     lean = evaluator.test_generation(genomes, 5, 1, 0, record="behaviour")
