@@ -87,7 +87,7 @@ class ModelConfig:
 class NetworkConfig:
     """Network sizes (paper, Appendix). The paper does not give the four-layer net's hidden
     sizes: 2/2/4 (64 weights) is the setting the pre-registered confirmatory study chose (H1,
-    docs/analysis.md); the a-priori 4/4/8 (160) is the study's variant hidden-4-4-8."""
+    docs/preregistrations.md); the a-priori 4/4/8 (160) is the study's variant hidden-4-4-8."""
 
     visual_hidden: int = setting(2, "four-layer net: visual hidden units (2: chosen by the "
                                  "confirmatory study; the a-priori reading was 4)", low=1,
@@ -130,14 +130,14 @@ class EvolutionConfig:
     shared_trials: bool = setting(True, "all econets of a generation face the same trials")
     optimizer: str = setting("ga", "what breeds each generation from the last one's fitness: "
                              "ga (the paper's selection and bit-flip mutation), cmaes (CMA-ES), "
-                             "es (an OpenAI-style evolution strategy); docs/gym.md",
+                             "es (an OpenAI-style evolution strategy); docs/optimizers.md",
                              choices=OPTIMIZERS, added=True)
     cmaes_sigma: float = setting(3.0, "cmaes: initial step size, in weight units (chosen "
-                                 "by a pilot; docs/gym.md)", low=1e-6, added=True)
+                                 "by a pilot; docs/optimizers.md)", low=1e-6, added=True)
     es_sigma: float = setting(1.0, "es: standard deviation of the perturbations, in weight "
-                              "units (chosen by a pilot; docs/gym.md)", low=1e-6, added=True)
+                              "units (chosen by a pilot; docs/optimizers.md)", low=1e-6, added=True)
     es_learning_rate: float = setting(0.3, "es: Adam's step size, in weight units (chosen by "
-                                      "a pilot; docs/gym.md)", low=1e-9, added=True)
+                                      "a pilot; docs/optimizers.md)", low=1e-9, added=True)
 
 
 SECTIONS = {"model": ModelConfig, "network": NetworkConfig, "evolution": EvolutionConfig}

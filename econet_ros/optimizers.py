@@ -1,5 +1,5 @@
 """What breeds each generation from the fitness of the last: the paper's genetic algorithm, CMA-ES,
-or an OpenAI-style evolution strategy (setting ``evolution.optimizer``; docs/gym.md).
+or an OpenAI-style evolution strategy (setting ``evolution.optimizer``; docs/optimizers.md).
 
 All three run inside the same generation loop (runs.evolve_into), test the same population size
 on the same trials, and write the same run folders. CMA-ES and the evolution strategy search

@@ -34,7 +34,7 @@ def add_parser(commands) -> None:
                        help="also evolve the normal condition with CMA-ES and with an "
                             "evolution strategy (--runs runs each, paired with the GA's normal "
                             "runs) for the report's section 'Are the constraints the task's or "
-                            "the algorithm's?' (docs/gym.md); may be added to an existing "
+                            "the algorithm's?' (docs/optimizers.md); may be added to an existing "
                             "study folder later")
     _add_report_options(study, "OUT")
     add_config_options(study, ("evolution", "network", "model"), skip=("evolution.condition",))

@@ -16,7 +16,7 @@ import os as _os
 
 # A vector step is one short parallel kernel (about 0.3 ms for 2000 environments); OpenMP
 # workers that spin-wait after it (libgomp's default) made steps up to ten times slower on a
-# busy machine, sleeping workers cost only a wake-up (docs/gym.md#speed). As in
+# busy machine, sleeping workers cost only a wake-up (docs/speed.md, "The Gymnasium vector environment"). As in
 # econet_ros.nodes; it must be set before numba starts OpenMP.
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 

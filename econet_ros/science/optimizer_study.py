@@ -1,6 +1,6 @@
 """Are the constraints the task's or the algorithm's? The paper's GA against CMA-ES and an
 evolution strategy on the same network, fitness and budget (the study's optimizer variants,
-study.OPTIMIZER_VARIANTS; docs/gym.md): fitness curves with 95% t intervals over runs,
+study.OPTIMIZER_VARIANTS; docs/optimizers.md): fitness curves with 95% t intervals over runs,
 the four emergent constraints' measures per generation, and the study's claims on each
 constraint judged under each optimizer. ROS-free."""
 from __future__ import annotations
@@ -119,7 +119,7 @@ class Comparison:
                  "The paper found four constraints emerging under its genetic algorithm. Here "
                  "the same network, task, fitness and evaluation budget (the same trials each "
                  "generation, runs paired by seed) are evolved by CMA-ES and by an OpenAI-style "
-                 "evolution strategy (docs/gym.md). A constraint that appears under every "
+                 "evolution strategy (docs/optimizers.md). A constraint that appears under every "
                  "optimizer comes from the task (body, senses, fitness), not from variation "
                  "by bit flips and selection of the best 20; one that appears under the GA only "
                  "is the algorithm's.\n",

@@ -527,7 +527,7 @@ def _sweeps(analysis: Analysis) -> list[str]:
     if not analysis.sweeps:
         return []
     lines = ["## Sweeps: under which readings of the paper do its findings hold?\n",
-             "The decision rules (docs/analysis.md, each committed before the sweeps it judges "
+             "The decision rules (docs/preregistrations.md, each committed before the sweeps it judges "
              "ran) applied to each sweep; every sweep's full tables and figures are in its own "
              "summary.\n"]
     for sweep in analysis.swept:

@@ -1,4 +1,4 @@
-"""The pre-registered rule of docs/analysis.md ("The confirmatory study: pre-registered"): H1 and
+"""The pre-registered rule of docs/preregistrations.md ("The confirmatory study: pre-registered"): H1 and
 H2 on the confirmatory sweep's three networks, H3 on the map of mutational load, and the
 exploratory readings. The rule was committed before these sweeps ran; this module only applies
 it to a sweep's tidy rows (outcomes.py), with the cells each sweep's [rule] table names
@@ -274,7 +274,7 @@ def architecture(confirm_spec: SweepSpec, confirm_rows: list[dict], nets: Networ
     lines = ["## The architecture comparison and its confound\n",
              "The paper credits the four-layer net's lead over the three-layer net (8 hidden "
              "units) to its modular senses, but gives no hidden sizes for the four-layer net. "
-             "The pre-registered confirmatory study (docs/analysis.md; 20 fresh paired seeds) "
+             "The pre-registered confirmatory study (docs/preregistrations.md; 20 fresh paired seeds) "
              "set the four-layer net that holds (2/2/4) against the paper's three-layer net and "
              "one of the four-layer net's own size (4 hidden units):\n",
              "| network | weights | runs that hold [95% CI, Clopper-Pearson] | late top-20 "

@@ -1,4 +1,4 @@
-"""The decision rule of docs/analysis.md ("Finding the paper's regime"), applied to a sweep: for
+"""The decision rule of docs/preregistrations.md ("Finding the paper's regime"), applied to a sweep: for
 every setting (a four-layer cell F, its three-layer partner T and the random-movement cell R,
 paired by seed), whether it reproduces Figure 3 (F1-F4) and whether its behaviour is
 paper-like (B1-B4). The rule was written before the sweeps ran; this module only applies it."""
@@ -83,7 +83,7 @@ def regime_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
     found = settings(spec)
     if not found:
         return []
-    lines = ["## The decision rule (docs/analysis.md), setting by setting\n",
+    lines = ["## The decision rule (docs/preregistrations.md), setting by setting\n",
              "| F | T | " + " | ".join(f"F{i}" for i in range(1, 5)) + " | "
              + " | ".join(f"B{i}" for i in range(1, 5)) + " | Figure 3 | paper-like |",
              "|---|---|" + "---|" * 10]
@@ -111,7 +111,7 @@ def verdicts(spec: SweepSpec, rows: list[dict]) -> list[tuple[Setting, bool, boo
 
 
 def defaults_markdown(judged: list[tuple[Setting, bool, bool]]) -> list[str]:
-    """The rule's choice of defaults over every setting of every sweep (docs/analysis.md,
+    """The rule's choice of defaults over every setting of every sweep (docs/preregistrations.md,
     "Choosing the defaults")."""
     def named(found):
         return ", ".join(f"{s.four[0]} vs {s.three[0]}" for s in found) or "none"
@@ -123,7 +123,7 @@ def defaults_markdown(judged: list[tuple[Setting, bool, bool]]) -> list[str]:
              f"behaviour: {named(paper)}; both: {named(both)}.\n"]
     if both:
         return lines + ["By the rule the one with the fewest changes from the a-priori defaults "
-                        "becomes the default (docs/analysis.md).\n"]
+                        "becomes the default (docs/preregistrations.md).\n"]
     behaviour = ("" if paper else "; under none of these readings do the econets reach and "
                  "hold as the paper describes")
     return lines + ["No setting meets all eight criteria, so by the rule the defaults stay the "

@@ -15,7 +15,7 @@ from . import confirm, regime
 from .figures import LOAD_MAP, load_map_figure
 from .plan import SweepSpec
 
-PREREGISTERED = "## The pre-registered rule (docs/analysis.md, \"The confirmatory study\")\n"
+PREREGISTERED = "## The pre-registered rule (docs/preregistrations.md, \"The confirmatory study\")\n"
 
 
 @dataclass(frozen=True)

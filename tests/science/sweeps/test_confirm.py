@@ -1,4 +1,4 @@
-"""The pre-registered rule (docs/analysis.md, "The confirmatory study") on hand-made tidy rows of
+"""The pre-registered rule (docs/preregistrations.md, "The confirmatory study") on hand-made tidy rows of
 its own sweep specs: data built to meet a hypothesis replicate it, data built against it
 contradict it, and data that cannot tell are inconclusive."""
 from pathlib import Path

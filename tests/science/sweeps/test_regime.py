@@ -1,4 +1,4 @@
-"""The decision rule of docs/analysis.md applied to hand-made sweep rows: a setting built to
+"""The decision rule of docs/preregistrations.md applied to hand-made sweep rows: a setting built to
 meet all eight criteria passes, and breaking any one criterion fails exactly that one, and
 with it the setting's verdict and the rule's choice of defaults."""
 import numpy as np
