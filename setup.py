@@ -1,3 +1,10 @@
+"""econet_ros: built by colcon as the root ament_python package (scripts/setup), and installable
+by pip without ROS: `pip install .` gives the ROS-free core (econet evolve, study, analyze,
+evaluate, compare); the extras add a feature each, e.g. `pip install ".[sweep,gym,bag]"`.
+
+The ranges below hold the versions this project is tested with (requirements.txt pins them
+exactly, with ROS 2; scripts/setup installs that list): from that release (or the first with
+what the code uses) up to the next major one."""
 import os
 from glob import glob
 
@@ -12,12 +19,36 @@ data_files = [
 if os.path.isdir('launch'):
     data_files.append(('share/' + package_name + '/launch', glob('launch/*.py')))
 
+# econet_msgs' message definitions travel inside the package as econet_ros/recording/msg, so
+# that bags are read and written without ROS (recording/messages.py looks there).
+MSG_PACKAGE = package_name + '.recording.msg'
+
+# The nodes' console scripts (`ros2 run econet_ros world_node`, ...) start through
+# econet_ros.cli.nodes, which says in one line what is missing where ROS 2 is not installed.
+NODES = ('world_node', 'controller_node', 'supervisor_node', 'recorder_node', 'viewer_node')
+
 setup(
     name=package_name,
     version='0.1.0',
-    packages=find_packages(exclude=['tests', 'tests.*']),
+    packages=find_packages(exclude=['tests', 'tests.*']) + [MSG_PACKAGE],
+    package_dir={MSG_PACKAGE: 'econet_msgs/msg'},
+    package_data={MSG_PACKAGE: ['*.msg']},
     data_files=data_files,
-    install_requires=['setuptools'],
+    python_requires='>=3.11',
+    install_requires=[
+        'numpy>=2,<3',               # the code is written for NumPy 2; numba narrows it
+        'numba>=0.68,<1',          # the compiled kernels
+        'tqdm>=4.70,<5',           # progress bars of evolve, study and sweep
+        'cma>=4.5,<5',             # the CMA-ES optimizer (evolution.optimizer = cmaes)
+        'scipy>=1.17,<2',          # the report's t, beta and binomial quantiles
+        'matplotlib>=3.11,<4',     # figures and bag pictures; brings Pillow for the GIFs
+    ],
+    extras_require={
+        'sweep': ['ray>=2.60,<3'],                  # econet sweep (Ray tasks, local or cluster)
+        'gym': ['gymnasium>=1.1,<2'],               # econet_ros/Reach-v0 and its vector env
+        'bag': ['rosbags>=0.11,<1'],                # econet bag, econet evaluate --bag
+        'view': ['foxglove-sdk>=0.30,<1'],          # the viewer node (needs ROS 2 as well)
+    },
     zip_safe=True,
     maintainer='econet developers',
     maintainer_email='econet-dev@example.org',
@@ -25,14 +56,8 @@ setup(
     license='MIT',
     tests_require=['pytest'],
     entry_points={
-        'console_scripts': [
-            'econet = econet_ros.cli:main',
-            'world_node = econet_ros.nodes.world_node:main',
-            'controller_node = econet_ros.nodes.controller_node:main',
-            'supervisor_node = econet_ros.nodes.supervisor_node:main',
-            'recorder_node = econet_ros.nodes.recorder_node:main',
-            'viewer_node = econet_ros.nodes.viewer_node:main',
-        ],
+        'console_scripts': ['econet = econet_ros.cli:main'] + [
+            f'{node} = econet_ros.cli.nodes:{node}' for node in NODES],
         # Controllers by name (econet_ros.plugins.BUILTIN); other packages add their own here.
         'econet_ros.controllers': [
             'normal = econet_ros.controllers:FourLayerNetwork',

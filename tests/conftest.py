@@ -12,6 +12,9 @@ ROS_FIXTURES = {"ros", "procs"}
 def pytest_configure(config):
     config.addinivalue_line("markers", "ros: starts ROS 2 nodes (rclpy in the test process or "
                                        "node processes); deselect with -m 'not ros'")
+    config.addinivalue_line("markers", "install: pip-installs the core into a fresh venv and "
+                                       "runs it there (about 90 s); deselect with "
+                                       "-m 'not install'")
 
 
 def pytest_collection_modifyitems(items):

@@ -9,7 +9,8 @@
     compare   paired statistics between two sets of runs (studies, sweep cells)
 
 Every command checks its input before any work starts; an EconetError anywhere ends here as one
-line on stderr and exit status 2.
+line on stderr and exit status 2, and so does a missing optional dependency (an extra of a pip
+install, or ROS 2), with what to install.
 """
 from __future__ import annotations
 
@@ -23,6 +24,28 @@ from .options import Parser
 # order --help lists them.
 MODULES = ("evolve", "study", "sweep", "compare", "evaluate", "bag")
 MODULE_OF = {"analyze": "study", **{name: name for name in MODULES}}
+
+# What to install for each module that `pip install .` (the ROS-free core) does not bring:
+# the extras declared in setup.py, and ROS 2 with the colcon-built messages (scripts/setup).
+INSTALL_HINTS = {
+    "ray": 'Ray: pip install ".[sweep]" in the checkout',
+    "gymnasium": 'Gymnasium: pip install ".[gym]" in the checkout',
+    "rosbags": 'rosbags: pip install ".[bag]" in the checkout',
+    "foxglove": 'the Foxglove SDK: pip install ".[view]" in the checkout',
+    "rclpy": "ROS 2 (rclpy): set the checkout up with scripts/setup, or source a ROS 2 "
+             "installation",
+    "econet_msgs": "the econet_msgs messages: build them with scripts/setup (colcon)",
+}
+
+
+def missing_dependency(error: ModuleNotFoundError, what: str) -> str:
+    """One line saying that `what` needs the optional module the error names, and how to
+    install it; the error itself again when that module is not an optional dependency (a
+    broken install is a bug to see whole)."""
+    hint = INSTALL_HINTS.get((error.name or "").partition(".")[0])
+    if hint is None:
+        raise error
+    return f"{what} needs {hint}"
 
 
 def build_parser(modules: tuple[str, ...] = MODULES) -> Parser:
@@ -46,6 +69,10 @@ def main(argv: list[str] | None = None) -> int:
         return args.handler(args)
     except EconetError as error:
         print(f"econet: error: {error}", file=sys.stderr)
+        return 2
+    except ModuleNotFoundError as error:
+        command = " ".join(["econet", *argv[:1]])
+        print(f"econet: error: {missing_dependency(error, command)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("econet: interrupted; run the same command again to resume", file=sys.stderr)

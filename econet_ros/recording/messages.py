@@ -11,12 +11,10 @@ ECONET_TYPES = ("TrialStart", "Retina", "Proprioception", "Touch", "MuscleComman
 
 
 def msg_dir() -> Path:
-    """The folder holding econet_msgs' .msg definitions (source tree, else the install)."""
+    """The folder holding econet_msgs' .msg definitions: the source tree's, else the copy that
+    setup.py installs beside this module (so a pip install without ROS reads bags too)."""
     here = Path(__file__).resolve().parents[2] / "econet_msgs" / "msg"
-    if here.is_dir():
-        return here
-    from ament_index_python.packages import get_package_share_directory   # installed layout
-    return Path(get_package_share_directory("econet_msgs")) / "msg"
+    return here if here.is_dir() else Path(__file__).resolve().parent / "msg"
 
 
 _TYPESTORE = None
