@@ -13,7 +13,6 @@ Serves      reset_trials (econet_msgs/ResetTrials)
 """
 from __future__ import annotations
 
-import math
 import sys
 import time
 
@@ -50,8 +49,10 @@ PARAMETERS = (
     Param("seed", 0, "seed of the trials free mode draws (trial k uses seed + k)", low=0),
     Param("display_env", 0, "environment shown on joint_states and markers (below n_envs)",
           low=0),
-    Param("display_rate_hz", 20.0, "most joint_states/markers pictures per second (0 = every "
-                                   "cycle, costly in lockstep)", low=0.0),
+    Param("display_rate_hz", 20.0, "most joint_states/markers pictures per second: in free "
+                                   "mode every k-th cycle where it divides rate_hz, else by "
+                                   "the wall clock (0 = every cycle, costly in lockstep)",
+          low=0.0),
     Param("frame_id", FRAME, "frame of the pictures: the agent at its origin, x right, y up, "
                              "one workspace unit = 1 m; /tf_static puts it at the origin of "
                              "map"),
@@ -70,8 +71,7 @@ class WorldNode(Node):
             raise ConfigError(f"display_env must be below n_envs ({n_envs}), got "
                               f"{self.display_env}")
         self.model = node_config(v["config"]).model
-        self.display_period = 1.0 / display_rate if display_rate > 0 else 0.0
-        self._last_display = -math.inf
+        self.pictures = display.PictureClock(display_rate, rate if self.mode == "free" else None)
 
         self._compile_kernels()
         self.world = World(n_envs, self.model)
@@ -126,7 +126,7 @@ class WorldNode(Node):
             self.world = World(len(setup), self.model)
             self.wire = SensorMessages(len(setup), self.model.visual_units)
         self.world.reset(setup)
-        self._last_display = -math.inf        # every trial's first picture is its cycle 0
+        self.pictures.restart()
         self.trial += 1
         self.limit = cycles
         self.started = True
@@ -262,8 +262,7 @@ class WorldNode(Node):
         now = time.monotonic()
         if self.mode == "lockstep":
             self.unanswered = None if final else (sensors, now)
-        if now - self._last_display >= self.display_period or final:
-            self._last_display = now
+        if self.pictures.due(obs.cycle, final, now):
             self._publish_display(obs)
 
     def _resend_if_unanswered(self) -> None:

@@ -1,7 +1,7 @@
 """The pictures the graph shows, as serialized ROS 2 messages built without ROS: joint_states
 and markers of one environment, and the /tf_static that places the `econet` frame, so that the
 world node (which publishes these bytes as they are), ``econet evaluate --record`` and the
-viewer all send the same messages.
+viewer all send the same messages; and which of a world's cycles get a picture (PictureClock).
 
 Frame and units: the agent sits at the origin of the `econet` frame, x to the right, y up, z
 out of the workspace plane; one workspace unit is one metre on screen (the paper's workspace is
@@ -22,6 +22,48 @@ PARENT_FRAME = "map"
 JOINTS = ("body", "shoulder", "elbow")
 # Marker.type values (visualization_msgs/Marker)
 LINE_STRIP, LINE_LIST, CYLINDER = 4, 5, 3
+
+
+class PictureClock:
+    """Which cycles get a picture. A world at a fixed rate whose rate the display rate divides
+    (free mode at 20 cycles/s shows 20, 10, 5 ... pictures a second) pictures every k-th cycle:
+    an even picture rate, all 20 of 20 cycles when the rates match, where a wall-clock throttle
+    drops every cycle whose timer fired a little early. A display rate at or above the world's
+    (or 0) pictures every cycle. Otherwise (lockstep, whose pace is the controller's, or rates
+    that do not divide) at most one picture per display period by the wall clock. A trial's
+    first and last cycles always get one."""
+
+    def __init__(self, display_rate_hz: float, world_rate_hz: float | None = None):
+        self.every = cycles_per_picture(display_rate_hz, world_rate_hz)
+        self.period = 1.0 / display_rate_hz if display_rate_hz > 0 else 0.0
+        self.last = -math.inf
+
+    def restart(self) -> None:
+        """A new trial: its cycle 0 gets a picture."""
+        self.last = -math.inf
+
+    def due(self, cycle: int, final: bool, now: float) -> bool:
+        """Whether `cycle` (`final`: the trial's last) gets a picture, at monotonic time `now`."""
+        if self.every is not None:
+            return final or cycle % self.every == 0
+        if final or now - self.last >= self.period:
+            self.last = now
+            return True
+        return False
+
+
+def cycles_per_picture(display_rate_hz: float, world_rate_hz: float | None) -> int | None:
+    """k such that every k-th cycle of a world at `world_rate_hz` makes `display_rate_hz`
+    (1: every cycle), or None where no whole k does or the world has no fixed rate (None)."""
+    if display_rate_hz <= 0:
+        return 1
+    if world_rate_hz is None:
+        return None
+    if display_rate_hz >= world_rate_hz:
+        return 1
+    k = round(world_rate_hz / display_rate_hz)
+    return k if math.isclose(k * display_rate_hz, world_rate_hz, rel_tol=1e-9) else None
+
 
 def _header(frame_id: str, stamp_ns: int):
     stamp = message("builtin_interfaces/msg/Time", sec=stamp_ns // 10 ** 9,
