@@ -1,4 +1,4 @@
-"""The engine against a plain, independent reading of the model (reference_model.py, issue 20):
+"""The engine against a plain, independent reading of the model (reference_model.py):
 for the same weights and trial starts, every trial's fitness, success, latency and separations,
 and its whole course (states, outputs and contact cycle by cycle), under every setting that
 changes the physics. The graph and the Gymnasium env run the engine's kernels; this is what
