@@ -83,7 +83,8 @@ MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by
 
 # What the behaviour record keeps of each cycle (the values behaviour measures average, so they
 # can be pooled in the order a Trace pools them) and tallies per environment over its
-# pre-contact cycles (counts are exact in any order). science/measures.py defines each one.
+# pre-contact cycles (counts are exact in any order). docs/analysis.md defines each one;
+# science/measures.py turns them into the behaviour row.
 CYCLE_VALUES = ("shoulder", "elbow", "shoulder_flexor", "shoulder_extensor", "elbow_flexor",
                 "elbow_extensor", "eye_speed")
 PRE_CONTACT_COUNTS = ("cycles", "shoulder_flexion", "elbow_flexion", "body_moving",
