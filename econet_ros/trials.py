@@ -45,8 +45,9 @@ class TrialMeasures:
 
 
 class Trace(NamedTuple):
-    """Everything that happened in a batch of trials, cycle by cycle. The compiled trial loop
-    writes it field by field, by name: a new field is a declaration here plus its kernel line.
+    """Everything that happened in a batch of trials, cycle by cycle. Both drivers write it
+    field by field, by name: a new field is a declaration here plus its lines in _record_row
+    (the compiled loop) and _record_state (the per-cycle one).
 
     State arrays have cycles + 1 rows (row t = after t cycles, row 0 = the start); ``motor`` has
     one row per cycle (the command chosen from the observation of row t)."""
@@ -71,11 +72,6 @@ class Trace(NamedTuple):
                    hand_object_distance=np.zeros((rows, n)),
                    touch=np.zeros((rows, n), dtype=bool), fixated=np.zeros((rows, n), dtype=bool),
                    motor=np.zeros((cycles, n, N_MOTOR)), object_xy=np.array(object_xy))
-
-    def take(self, envs: np.ndarray) -> "Trace":
-        """The trace of a subset of environments."""
-        return Trace(**{name: values[envs] if name == "object_xy" else values[:, envs]
-                        for name, values in self._asdict().items()})
 
 
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
@@ -103,8 +99,9 @@ _SHOULDER, _ELBOW, _MOTOR, _EYE_SPEED = (
 class BehaviourRecord(NamedTuple):
     """What the per-generation behaviour measures need of a batch of trials, gathered inside the
     compiled loop: a Trace would cost a study about as much again as the trials themselves.
-    The loop writes it field by field, by name; a new measure is a name in CYCLE_VALUES or
-    PRE_CONTACT_COUNTS (or a field here) plus its lines in _tally_row.
+    The loop writes it field by field, by name: a new measure is a name in CYCLE_VALUES or
+    PRE_CONTACT_COUNTS (or a field here), its lines in _tally_row, and its column in
+    science/measures.py.
     Per-cycle arrays have one row per cycle (C, n)."""
 
     pre_contact: np.ndarray     # (C, n) bool: no contact in the trial up to the cycle's start
