@@ -16,7 +16,8 @@ _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # network run inside trials.py's whole-trial kernel), so after an edit or an update a stale
 # kernel could run. Keying the cache folder by the content of every module with kernels makes
 # any change start a fresh cache (tests/core/test_layout.py checks that this list names
-# every module with a kernel). An explicit NUMBA_CACHE_DIR is respected.
+# every module with a kernel; econet_ros.kernels compiles them all ahead of use). An explicit
+# NUMBA_CACHE_DIR is respected.
 KERNEL_MODULES = ("elementary.py", "world.py", "controllers.py", "trials.py",
                   "nodes/lockstep_wire.py")
 

@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, NamedTuple
 
 import numba
 import numpy as np
 
-from .controllers import Controller, forward_block
+from .controllers import CompiledPolicy, Controller, forward_block
 from .world import N_MOTOR, TrialSetup, World, move, sense
 
 
@@ -44,9 +44,10 @@ class TrialMeasures:
                 f"separations  mean {np.mean(self.separations):.2f} per trial")
 
 
-@dataclass
-class Trace:
-    """Everything that happened in a batch of trials, cycle by cycle.
+class Trace(NamedTuple):
+    """Everything that happened in a batch of trials, cycle by cycle. Both drivers write it
+    field by field, by name: a new field is a declaration here plus its lines in _record_row
+    (the compiled loop) and _record_state (the per-cycle one).
 
     State arrays have cycles + 1 rows (row t = after t cycles, row 0 = the start); ``motor`` has
     one row per cycle (the command chosen from the observation of row t)."""
@@ -61,20 +62,25 @@ class Trace:
     motor: np.ndarray                   # (C, n, 5)
     object_xy: np.ndarray               # (n, 2)
 
-    def take(self, envs: np.ndarray) -> "Trace":
-        """The trace of a subset of environments."""
-        return Trace(*(getattr(self, f)[:, envs] for f in _PER_CYCLE), self.object_xy[envs])
+    @classmethod
+    def empty(cls, cycles: int, object_xy: np.ndarray) -> "Trace":
+        """A zeroed trace of ``cycles`` cycles for the environments whose objects lie at
+        ``object_xy`` (copied)."""
+        rows, n = cycles + 1, len(object_xy)
+        return cls(body=np.zeros((rows, n)), shoulder=np.zeros((rows, n)),
+                   elbow=np.zeros((rows, n)), hand=np.zeros((rows, n, 2)),
+                   hand_object_distance=np.zeros((rows, n)),
+                   touch=np.zeros((rows, n), dtype=bool), fixated=np.zeros((rows, n), dtype=bool),
+                   motor=np.zeros((cycles, n, N_MOTOR)), object_xy=np.array(object_xy))
 
-
-_PER_CYCLE = ("body", "shoulder", "elbow", "hand", "hand_object_distance", "touch", "fixated",
-              "motor")
 
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
 MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
 
 # What the behaviour record keeps of each cycle (the values behaviour measures average, so they
 # can be pooled in the order a Trace pools them) and tallies per environment over its
-# pre-contact cycles (counts are exact in any order). science/measures.py defines each one.
+# pre-contact cycles (counts are exact in any order). docs/analysis.md defines each one;
+# science/measures.py turns them into the behaviour row.
 CYCLE_VALUES = ("shoulder", "elbow", "shoulder_flexor", "shoulder_extensor", "elbow_flexor",
                 "elbow_extensor", "eye_speed")
 PRE_CONTACT_COUNTS = ("cycles", "shoulder_flexion", "elbow_flexion", "body_moving",
@@ -90,16 +96,18 @@ _SHOULDER, _ELBOW, _MOTOR, _EYE_SPEED = (
         "approach_fixated", "away_fixated"))
 
 
-@dataclass
-class BehaviourRecord:
+class BehaviourRecord(NamedTuple):
     """What the per-generation behaviour measures need of a batch of trials, gathered inside the
     compiled loop: a Trace would cost a study about as much again as the trials themselves.
+    The loop writes it field by field, by name: a new measure is a name in CYCLE_VALUES or
+    PRE_CONTACT_COUNTS (or a field here), its lines in _tally_row, and its column in
+    science/measures.py.
     Per-cycle arrays have one row per cycle (C, n)."""
 
     pre_contact: np.ndarray     # (C, n) bool: no contact in the trial up to the cycle's start
     fixated: np.ndarray         # (C, n) bool: object fixated at the cycle's start
     values: np.ndarray          # (len(CYCLE_VALUES), C, n): angles at the start, muscle outputs,
-                                #   eye speed (as in measures.eye_speed)
+                                #   eye speed (body-axis rotation in the cycle, degrees)
     hand: np.ndarray            # (C+1, n, 2) hand-tip position, as in a Trace: the hand speed
                                 #   (a libm hypot) is worked out only for the environments asked
     counts: np.ndarray          # (len(PRE_CONTACT_COUNTS), n) pre-contact cycles with each event
@@ -110,10 +118,12 @@ class BehaviourRecord:
     def empty(cls, cycles: int, n: int) -> "BehaviourRecord":
         """A record to fill. The compiled loop writes every element of the per-cycle arrays, so
         they are not zeroed first (that costs about 1 ms of a 25 ms paper-size generation)."""
-        return cls(np.empty((cycles, n), dtype=bool), np.empty((cycles, n), dtype=bool),
-                   np.empty((len(CYCLE_VALUES), cycles, n)), np.empty((cycles + 1, n, 2)),
-                   np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
-                   np.full((3, n), -np.inf), np.full((3, n), np.inf))
+        return cls(pre_contact=np.empty((cycles, n), dtype=bool),
+                   fixated=np.empty((cycles, n), dtype=bool),
+                   values=np.empty((len(CYCLE_VALUES), cycles, n)),
+                   hand=np.empty((cycles + 1, n, 2)),
+                   counts=np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
+                   angle_high=np.full((3, n), -np.inf), angle_low=np.full((3, n), np.inf))
 
     def pooled(self, top: np.ndarray) -> dict[str, np.ndarray]:
         """The sequences the behaviour row averages, each in the order a boolean mask over
@@ -137,7 +147,8 @@ class BehaviourRecord:
                   for k, kind in enumerate(("hand", "eye"))}
         return found
 
-    def count(self, name: str) -> np.ndarray:
+    def counted(self, name: str) -> np.ndarray:
+        """(n,) pre-contact cycles with the event ``name`` (one of PRE_CONTACT_COUNTS)."""
         return self.counts[PRE_CONTACT_COUNTS.index(name)]
 
 
@@ -159,47 +170,69 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
     if record == "behaviour" and policy is None:
         raise ValueError("record='behaviour' needs a controller with a compiled policy; "
                          "record the full trace instead")
-    full = record is True
-    trace = _empty_trace(cycles, n, world) if full else None
+    trace = Trace.empty(cycles, world.object_xy) if record is True else None
     if policy is not None:
+        behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else None
         contact = np.zeros((cycles, n), dtype=np.bool_)
-        table = policy.motor_table if policy.motor_table is not None else np.zeros((1, 1, 5))
-        arrays = [getattr(trace, f) for f in _PER_CYCLE] if full else _NO_TRACE
-        behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else _NO_BEHAVIOUR
-        _run_compiled(world.body, world.body_start, world.shoulder, world.elbow,
-                      world.object_xy, world.geometry, world.edges[0], world.edges[1],
-                      policy.weights, policy.block, policy.layers, policy.buffer_size, table,
-                      policy.motor_table is not None, contact, full, *arrays,
-                      record == "behaviour", *vars(behaviour).values())
+        _run_compiled(_WorldArrays.of(world), world.geometry, _Policy.of(policy), contact,
+                      trace=_NO_TRACE if trace is None else trace,
+                      behaviour=_NO_BEHAVIOUR if behaviour is None else behaviour,
+                      record_trace=trace is not None, record_behaviour=behaviour is not None)
         world.cycle = cycles
         world.refresh()
-        return TrialMeasures.from_contact(contact), trace if full else \
-            behaviour if record else None
+        return TrialMeasures.from_contact(contact), trace if behaviour is None else behaviour
     contact = np.zeros((cycles, n), dtype=bool)
-    if full:
+    if trace is not None:
         _record_state(trace, 0, world, obs)
     for t in range(cycles):
         motor = controller.act(obs)
         obs = world.step(motor)
         contact[t] = obs.touch > 0.5
-        if full:
+        if trace is not None:
             trace.motor[t] = motor
             _record_state(trace, t + 1, world, obs)
     return TrialMeasures.from_contact(contact), trace
 
 
-def _empty_trace(cycles: int, n: int, world: World) -> Trace:
-    rows = cycles + 1
-    return Trace(np.zeros((rows, n)), np.zeros((rows, n)), np.zeros((rows, n)),
-                 np.zeros((rows, n, 2)), np.zeros((rows, n)), np.zeros((rows, n), dtype=bool),
-                 np.zeros((rows, n), dtype=bool), np.zeros((cycles, n, N_MOTOR)),
-                 world.object_xy.copy())
+class _WorldArrays(NamedTuple):
+    """The world's per-environment arrays the compiled loop moves and senses."""
+
+    body: np.ndarray
+    body_start: np.ndarray
+    shoulder: np.ndarray
+    elbow: np.ndarray
+    object_xy: np.ndarray
+    edge_x: np.ndarray          # the visual windows' edges (World.edges)
+    edge_y: np.ndarray
+
+    @classmethod
+    def of(cls, world: World) -> "_WorldArrays":
+        return cls(body=world.body, body_start=world.body_start, shoulder=world.shoulder,
+                   elbow=world.elbow, object_xy=world.object_xy, edge_x=world.edges[0],
+                   edge_y=world.edges[1])
 
 
-# Placeholders with the trace arrays' types, for compiled runs that record nothing.
-_NO_TRACE = (np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1)), np.zeros((1, 1, 2)),
-             np.zeros((1, 1)), np.zeros((1, 1), dtype=bool), np.zeros((1, 1), dtype=bool),
-             np.zeros((1, 1, N_MOTOR)))
+class _Policy(NamedTuple):
+    """A CompiledPolicy as the compiled loop takes it: a motor table or the networks."""
+
+    weights: np.ndarray
+    block: int
+    layers: np.ndarray
+    buffer_size: int
+    motor_table: np.ndarray     # (C, n, 5) when use_table, else a placeholder
+    use_table: bool
+
+    @classmethod
+    def of(cls, policy: CompiledPolicy) -> "_Policy":
+        use_table = policy.motor_table is not None
+        return cls(weights=policy.weights, block=policy.block, layers=policy.layers,
+                   buffer_size=policy.buffer_size,
+                   motor_table=policy.motor_table if use_table else np.zeros((1, 1, N_MOTOR)),
+                   use_table=use_table)
+
+
+# Placeholders with the records' types, for compiled runs that record nothing.
+_NO_TRACE = Trace.empty(0, np.zeros((1, 2)))
 _NO_BEHAVIOUR = BehaviourRecord.empty(1, 1)
 
 
@@ -214,22 +247,24 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
 
 
 @numba.njit(cache=True, inline="always")
-def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, t_body, t_shoulder, t_elbow,
-                t_hand, t_gap, t_touch, t_fixated):
+def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, trace):
     """Write state row ``row`` of environment i into the trace (gap, hand tip: from sense)."""
-    t_body[row, i], t_shoulder[row, i], t_elbow[row, i] = b, s, e
-    t_hand[row, i, 0], t_hand[row, i, 1] = hx, hy
-    t_gap[row, i] = max(gap, 0.0)
-    t_touch[row, i], t_fixated[row, i] = touching, seen
+    trace.body[row, i], trace.shoulder[row, i], trace.elbow[row, i] = b, s, e
+    trace.hand[row, i, 0], trace.hand[row, i, 1] = hx, hy
+    trace.hand_object_distance[row, i] = max(gap, 0.0)
+    trace.touch[row, i], trace.fixated[row, i] = touching, seen
 
 
 @numba.njit(cache=True, inline="always")
 def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_gap,
-               touched, pre_contact, fixated, values, hand, counts, high, low):
+               touched, record):
     """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
     cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
     carry row t - 1 and the contact so far from one row to the next; gap and hand tip come from
     sense."""
+    pre_contact, fixated, values, counts = \
+        record.pre_contact, record.fixated, record.values, record.counts
+    high, low = record.angle_high, record.angle_low
     gap = max(gap, 0.0)
     angles = (b, s, e)
     if t > 0:
@@ -264,7 +299,7 @@ def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles
         values[_SHOULDER, t, i], values[_ELBOW, t, i] = s, e
     for j in range(3):
         last_angles[m, j] = angles[j]
-    hand[t, i, 0], hand[t, i, 1], last_gap[m] = hx, hy, gap
+    record.hand[t, i, 0], record.hand[t, i, 1], last_gap[m] = hx, hy, gap
 
 
 @numba.njit(cache=True)
@@ -304,49 +339,57 @@ def _gather_pooled(pre_contact, fixated, values, hand, top, every, group, speeds
 
 
 @numba.njit(cache=True, parallel=True)
-def _run_compiled(body, body_start, shoulder, elbow, object_xy, geo, edge_x, edge_y, weights,
-                  block, layers, buffer_size, motor_table, use_table, contact, record, t_body,
-                  t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor, behaviour,
-                  b_pre_contact, b_fixated, b_values, b_hand, b_counts, b_high, b_low):
-    """Whole trials for each block of environments that share one network: sense, choose
-    outputs, move, repeat. Activations are (units, envs of the block), as in forward_block."""
+def _run_compiled(world, geo, policy, contact, trace, behaviour, record_trace, record_behaviour):
+    """Whole trials, one block of environments that share a network per thread; the trace and
+    the behaviour record are written when asked for. world: _WorldArrays, geo: world.Geometry,
+    policy: _Policy."""
+    for k in numba.prange(world.body.shape[0] // policy.block):
+        _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace,
+                   record_behaviour)
+
+
+@numba.njit(cache=True)
+def _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace, record_behaviour):
+    """The trials of block k: sense, choose outputs, move, repeat. Activations are (units, envs
+    of the block), as in forward_block. A function of its own, not inlined into the parallel
+    loop: numba loses writes to arrays reached through a tuple's fields inside a prange body
+    (numba/numba#7135)."""
+    body, shoulder, elbow, body_start = world.body, world.shoulder, world.elbow, world.body_start
+    block, motor_table, use_table = policy.block, policy.motor_table, policy.use_table
     n_inputs = geo.visual_units + 5
     cycles = contact.shape[0]
-    n_blocks = body.shape[0] // block
-    for k in numba.prange(n_blocks):
-        first = k * block
-        buffer = np.zeros((max(buffer_size, n_inputs), block))
-        motor_rows = buffer.shape[0] - N_MOTOR
-        total = np.zeros(block)
-        senses = np.zeros(n_inputs)
-        motor = np.zeros(N_MOTOR)
-        last_angles = np.zeros((block, 3))
-        last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
-        for t in range(cycles + 1):
-            for m in range(block):
-                i = first + m
-                if t > 0:       # apply the command chosen from the previous observation
-                    for u in range(N_MOTOR):
-                        motor[u] = motor_table[t - 1, i, u] if use_table else \
-                            buffer[motor_rows + u, m]
-                    body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i],
-                                                          motor[0], motor[1], motor[2],
-                                                          motor[3], motor[4], geo,
-                                                          body_start[i])
-                    if record:
-                        t_motor[t - 1, i, :] = motor
-                seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0],
-                                          object_xy[i, 1], geo, edge_x, edge_y, senses)
-                buffer[:n_inputs, m] = senses
-                touching = senses[n_inputs - 1] > 0.5
-                if t > 0:
-                    contact[t - 1, i] = touching
-                if record:
-                    _record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
-                                t_body, t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated)
-                if behaviour:
-                    _tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx,
-                               hy, motor, last_angles, last_gap, touched, b_pre_contact,
-                               b_fixated, b_values, b_hand, b_counts, b_high, b_low)
-            if t < cycles and not use_table:
-                forward_block(buffer[:, :], weights[k], layers, total)
+    first = k * block
+    buffer = np.zeros((max(policy.buffer_size, n_inputs), block))
+    motor_rows = buffer.shape[0] - N_MOTOR
+    total = np.zeros(block)
+    senses = np.zeros(n_inputs)
+    motor = np.zeros(N_MOTOR)
+    last_angles = np.zeros((block, 3))
+    last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
+    for t in range(cycles + 1):
+        for m in range(block):
+            i = first + m
+            if t > 0:       # apply the command chosen from the previous observation
+                for u in range(N_MOTOR):
+                    motor[u] = motor_table[t - 1, i, u] if use_table else \
+                        buffer[motor_rows + u, m]
+                body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[0],
+                                                      motor[1], motor[2], motor[3], motor[4],
+                                                      geo, body_start[i])
+                if record_trace:
+                    trace.motor[t - 1, i, :] = motor
+            seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], world.object_xy[i, 0],
+                                      world.object_xy[i, 1], geo, world.edge_x, world.edge_y,
+                                      senses)
+            buffer[:n_inputs, m] = senses
+            touching = senses[n_inputs - 1] > 0.5
+            if t > 0:
+                contact[t - 1, i] = touching
+            if record_trace:
+                _record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
+                            trace)
+            if record_behaviour:
+                _tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
+                           motor, last_angles, last_gap, touched, behaviour)
+        if t < cycles and not use_table:
+            forward_block(buffer[:, :], policy.weights[k], policy.layers, total)

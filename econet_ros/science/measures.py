@@ -1,9 +1,10 @@
-"""Behaviour measures behind the paper's Figures 4-9 and the reach summaries of the lesion test,
-computed from a trials ``Trace`` (ROS-free, NumPy only). Definitions: docs/analysis.md.
+"""Behaviour measures behind the paper's Figures 4-9 and the reach summaries of the lesion test
+(ROS-free, NumPy only). Definitions: docs/analysis.md.
 
-A study needs only the per-generation row (behaviour_row); it takes it from the much cheaper
-``BehaviourRecord`` the compiled trial loop gathers (recorded_behaviour_row), which gives the
-same row to the last bit (tests/science/test_measures.py checks the two against each other).
+A study's per-generation row of Figure measures (recorded_behaviour_row) comes from the
+``BehaviourRecord`` the compiled trial loop gathers, much cheaper than a full ``Trace``; the
+reach summaries come from a ``Trace``. tests/science/behaviour_oracle.py computes the same row
+from a full Trace in plain NumPy, and the tests hold the two equal to the last bit.
 
 Conventions shared by every measure
     cycle t      motor row t, chosen from the state in trace row t and leading to row t + 1.
@@ -19,11 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..trials import MOVE_EPS, MOVING_DEG, BehaviourRecord, TrialMeasures, Trace
+from ..trials import MOVE_EPS, BehaviourRecord, TrialMeasures, Trace
 
 SQRT2 = np.sqrt(2.0)
 CHANCE = 0.5              # P(approach) of a movement at random (paper: Figure 8)
-SHOULDER, ELBOW = (1, 2), (3, 4)   # (flexor, extensor) columns of Trace.motor
 
 
 # -- masks ------------------------------------------------------------------------------------
@@ -48,42 +48,7 @@ def _mean(values: np.ndarray) -> float:
     return float(values.sum() / len(values)) if len(values) else float("nan")
 
 
-# -- Figures 4 and 5: flexion -------------------------------------------------------------------
-def flexion_percent(trace: Trace, joint: tuple[int, int], mask: np.ndarray | None = None) -> float:
-    """% of (pre-contact) cycles whose flexor output exceeds the extensor output."""
-    mask = pre_contact(trace) if mask is None else mask
-    flex = trace.motor[:, :, joint[0]] > trace.motor[:, :, joint[1]]
-    return 100.0 * _pooled(flex.astype(float), mask)
-
-
-def mean_angle(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
-    """Mean joint angle (degrees; 180 = extended) at the start of the (pre-contact) cycles."""
-    mask = pre_contact(trace) if mask is None else mask
-    return _pooled(getattr(trace, joint)[:-1], mask)
-
-
 JOINTS = ("body", "shoulder", "elbow")
-
-
-def moving_share(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
-    """Share of (pre-contact) cycles in which the joint's angle changes by more than
-    MOVING_DEG: 0 for a locked or frozen joint, whatever holds it there."""
-    mask = pre_contact(trace) if mask is None else mask
-    angle = getattr(trace, joint)
-    return _pooled((np.abs(angle[1:] - angle[:-1]) > MOVING_DEG).astype(float), mask)
-
-
-def excursion(trace: Trace, joint: str, mask: np.ndarray | None = None) -> float:
-    """Mean over trials of the range (max - min) the joint's angle covers before first contact
-    (rows 0..first contact), in degrees; trials with no pre-contact cycle do not count."""
-    mask = pre_contact(trace) if mask is None else mask
-    rows = np.vstack([mask, np.zeros((1, mask.shape[1]), bool)]) | \
-        np.vstack([np.zeros((1, mask.shape[1]), bool), mask])   # states a pre-contact cycle touches
-    angle = getattr(trace, joint)
-    high = np.where(rows, angle, -np.inf).max(axis=0)
-    low = np.where(rows, angle, np.inf).min(axis=0)
-    counted = mask.any(axis=0)
-    return float((high - low)[counted].mean()) if counted.any() else float("nan")
 
 
 # -- Figures 6 and 7: coactivation / reciprocal activation -----------------------------------
@@ -97,27 +62,7 @@ def reciprocal_deviation(flexor: np.ndarray, extensor: np.ndarray) -> np.ndarray
     return np.abs(flexor + extensor - 1.0) / SQRT2
 
 
-def both_share(trace: Trace, joint: tuple[int, int], high: bool,
-               mask: np.ndarray | None = None) -> float:
-    """Share of (pre-contact) cycles with both muscles of the pair above 0.5 (co-contraction,
-    high=True: a stiffened joint) or both below (co-relaxation: a slack one). Both lie on the
-    ideal coactivation line; only co-contraction is what the paper calls stiffening."""
-    mask = pre_contact(trace) if mask is None else mask
-    f, e = trace.motor[:, :, joint[0]], trace.motor[:, :, joint[1]]
-    both = (f > 0.5) & (e > 0.5) if high else (f < 0.5) & (e < 0.5)
-    return _pooled(both.astype(float), mask)
-
-
-def activation_deviations(trace: Trace, joint: tuple[int, int],
-                          mask: np.ndarray | None = None) -> tuple[float, float]:
-    """(mean deviation from coactivation, from reciprocal activation) over pre-contact cycles."""
-    mask = pre_contact(trace) if mask is None else mask
-    f, e = trace.motor[:, :, joint[0]], trace.motor[:, :, joint[1]]
-    return (_pooled(coactivation_deviation(f, e), mask),
-            _pooled(reciprocal_deviation(f, e), mask))
-
-
-# -- Figures 8 and 9: approach movements and speeds -------------------------------------------
+# -- Figure 8 and the reaches: approach movements and speeds -----------------------------------
 def distance_change(trace: Trace) -> np.ndarray:
     """(C, n): hand-object gap after the cycle minus before it."""
     d = trace.hand_object_distance
@@ -130,33 +75,12 @@ def hand_speed(trace: Trace) -> np.ndarray:
     return np.hypot(step[..., 0], step[..., 1])
 
 
-def eye_speed(trace: Trace) -> np.ndarray:
-    """(C, n): absolute body-axis (eye) rotation in the cycle (degrees)."""
-    return np.abs(trace.body[1:] - trace.body[:-1])
-
-
 def approach_probability(trace: Trace, fixated: bool | None,
                          mask: np.ndarray | None = None) -> float:
     """P(the gap shrinks in a cycle) over pre-contact cycles that start with the object fixated
     (fixated=True), not fixated (False) or either (None)."""
     mask = _fixation_mask(trace, fixated, mask)
     return _pooled((distance_change(trace) < -MOVE_EPS).astype(float), mask)
-
-
-def away_probability(trace: Trace, fixated: bool | None, mask: np.ndarray | None = None) -> float:
-    """P(the gap grows in a cycle), same cycles as approach_probability."""
-    mask = _fixation_mask(trace, fixated, mask)
-    return _pooled((distance_change(trace) > MOVE_EPS).astype(float), mask)
-
-
-def mean_speed(trace: Trace, kind: str, fixated: bool | None,
-               mask: np.ndarray | None = None, speed: np.ndarray | None = None) -> float:
-    """Mean hand ('hand') or eye ('eye') speed over (pre-contact) cycles with the given fixation
-    (``speed``: that speed, if already computed)."""
-    mask = _fixation_mask(trace, fixated, mask)
-    if speed is None:
-        speed = hand_speed(trace) if kind == "hand" else eye_speed(trace)
-    return _pooled(speed, mask)
 
 
 def _fixation_mask(trace: Trace, fixated: bool | None, mask: np.ndarray | None) -> np.ndarray:
@@ -193,66 +117,22 @@ BEHAVIOUR_COLUMNS = [
 ]
 
 
-def behaviour_row(trace: Trace, generation: int, top: np.ndarray, trials: int) -> dict:
-    """Reduce one generation's trace to the per-generation statistics (BEHAVIOUR_COLUMNS).
-
-    top: indices of the selected econets (GenerationResult.parents)."""
-    pre = pre_contact(trace)
-    envs = np.zeros(trace.touch.shape[1], dtype=bool)
-    envs[econet_envs(top, trials)] = True
-    top_pre = pre & envs[None, :]
-    every = np.ones_like(pre) & envs[None, :]
-    fix = trace.fixated[:-1]
-    s_co, s_re = activation_deviations(trace, SHOULDER, top_pre)
-    e_co, e_re = activation_deviations(trace, ELBOW, top_pre)
-    hand, eye = hand_speed(trace), eye_speed(trace)
-    return {
-        "generation": generation,
-        "all_shoulder_flexion": flexion_percent(trace, SHOULDER, pre),
-        "all_elbow_flexion": flexion_percent(trace, ELBOW, pre),
-        "all_shoulder_angle": mean_angle(trace, "shoulder", pre),
-        "all_elbow_angle": mean_angle(trace, "elbow", pre),
-        "top_shoulder_flexion": flexion_percent(trace, SHOULDER, top_pre),
-        "top_elbow_flexion": flexion_percent(trace, ELBOW, top_pre),
-        "top_shoulder_angle": mean_angle(trace, "shoulder", top_pre),
-        "top_shoulder_coact": s_co, "top_shoulder_recip": s_re,
-        "top_elbow_coact": e_co, "top_elbow_recip": e_re,
-        "top_approach_fix": approach_probability(trace, True, top_pre),
-        "top_approach_nofix": approach_probability(trace, False, top_pre),
-        "top_away_fix": away_probability(trace, True, top_pre),
-        "top_away_nofix": away_probability(trace, False, top_pre),
-        "top_fix_cycles": int((top_pre & fix).sum()),
-        "top_nofix_cycles": int((top_pre & ~fix).sum()),
-        "top_hand_speed_fix": mean_speed(trace, "hand", True, top_pre, hand),
-        "top_eye_speed_fix": mean_speed(trace, "eye", True, top_pre, eye),
-        "top_hand_speed_nofix": mean_speed(trace, "hand", False, top_pre, hand),
-        "top_eye_speed_nofix": mean_speed(trace, "eye", False, top_pre, eye),
-        "top_hand_speed_fix_allcyc": mean_speed(trace, "hand", True, every, hand),
-        "top_eye_speed_fix_allcyc": mean_speed(trace, "eye", True, every, eye),
-        "top_latency_success": latency_of_successes(trace, envs),
-        "all_latency_success": latency_of_successes(trace),
-        **{f"all_{joint}_moving": moving_share(trace, joint, pre) for joint in JOINTS},
-        **{f"all_{joint}_excursion": excursion(trace, joint, pre) for joint in JOINTS},
-        **{f"top_{name}_{kind}": both_share(trace, pair, kind == "cocontraction", top_pre)
-           for name, pair in (("shoulder", SHOULDER), ("elbow", ELBOW))
-           for kind in ("cocontraction", "corelaxation")},
-    }
-
-
 def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, generation: int,
                            top: np.ndarray, trials: int) -> dict:
-    """behaviour_row from a BehaviourRecord and the trials' measures (any shape, environments in
-    order): the pre-contact counts are summed over the group's environments, the per-cycle
-    values pooled over the same cycles, in the same order, as behaviour_row pools them
-    (BehaviourRecord.pooled)."""
+    """One generation's statistics (BEHAVIOUR_COLUMNS) from a BehaviourRecord and the trials'
+    measures (any shape, environments in order); top: the selected econets
+    (GenerationResult.parents). The pre-contact counts are summed over the group's
+    environments, the per-cycle values pooled in the order a boolean mask over a Trace's
+    (cycle, environment) selects them (BehaviourRecord.pooled), so each mean is summed as
+    NumPy sums it from a Trace."""
     envs = np.zeros(record.pre_contact.shape[1], dtype=bool)
     envs[econet_envs(top, trials)] = True
     pooled = record.pooled(np.flatnonzero(envs))
-    cycles, fixated = record.count("cycles"), record.count("fixated")
+    cycles, fixated = record.counted("cycles"), record.counted("fixated")
 
     def share(name: str, group: np.ndarray | slice, of: np.ndarray) -> float:
         total = int(of[group].sum())
-        return float(record.count(name)[group].sum() / total) if total else float("nan")
+        return float(record.counted(name)[group].sum() / total) if total else float("nan")
 
     def deviations(joint: str) -> tuple[float, float]:
         f, e = (pooled[f"top_{joint}_{m}"] for m in ("flexor", "extensor"))
@@ -300,14 +180,6 @@ def recorded_behaviour_row(record: BehaviourRecord, measures: TrialMeasures, gen
         **{f"top_{joint}_{kind}": share(f"{joint}_{kind}", envs, cycles)
            for joint in ("shoulder", "elbow") for kind in ("cocontraction", "corelaxation")},
     }
-
-
-def latency_of_successes(trace: Trace, envs: np.ndarray | None = None) -> float:
-    """Mean cycle of first contact (1..C, as metrics.csv counts it) over the trials, of the
-    given environments, that make one; NaN if none does."""
-    touch = trace.touch[1:] if envs is None else trace.touch[1:, envs]
-    hit = touch.any(axis=0)
-    return float((touch.argmax(axis=0)[hit] + 1).mean()) if hit.any() else float("nan")
 
 
 # -- reaches ----------------------------------------------------------------------------------

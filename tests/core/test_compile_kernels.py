@@ -1,4 +1,4 @@
-"""scripts/compile_kernels.py, which scripts/setup runs so that no user pays for compiling, must
+"""econet_ros.kernels, which scripts/setup runs so that no user pays for compiling, must
 compile every kernel signature that real commands use: a study (evolution under every condition,
 behaviour rows, the lesion, the optimizer comparison, the analysis), `econet evaluate`
 (recording a bag) with every controller, the Gymnasium env and the world node's message writer.
@@ -12,7 +12,6 @@ from pathlib import Path
 
 
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "scripts" / "compile_kernels.py"
 
 REAL_COMMANDS = """
 import json, sys
@@ -38,8 +37,7 @@ world, wire = World(3, model), SensorMessages(3, model.visual_units)
 world.reset(sample_setups(np.random.default_rng(0), 3, model))
 wire.write(world, 0, False)
 wire.step(world, np.full((3, 5), 0.5), 0, False)
-sys.path.insert(0, sys.argv[2])
-from compile_kernels import compiled_signatures
+from econet_ros.kernels import compiled_signatures
 print(json.dumps(compiled_signatures()))
 """
 
@@ -52,11 +50,11 @@ def signatures_of(args: list[str]) -> dict:
 
 def test_real_commands_compile_nothing_the_warm_up_leaves_out(tmp_path):
     warm_file = tmp_path / "warm.json"
-    subprocess.run([sys.executable, str(SCRIPT), "--signatures", str(warm_file)], check=True,
-                   capture_output=True, cwd=ROOT)
+    subprocess.run([sys.executable, "-m", "econet_ros.kernels", "--signatures", str(warm_file)],
+                   check=True, capture_output=True, cwd=ROOT)
     warm = json.loads(warm_file.read_text())
-    used = signatures_of(["-c", REAL_COMMANDS, str(tmp_path), str(SCRIPT.parent)])
+    used = signatures_of(["-c", REAL_COMMANDS, str(tmp_path)])
     assert used, "no kernel signatures seen"
     missing = {name: sorted(set(sigs) - set(warm.get(name, ()))) for name, sigs in used.items()}
     missing = {name: sigs for name, sigs in missing.items() if sigs}
-    assert not missing, f"compiled by real commands but not by scripts/compile_kernels.py: {missing}"
+    assert not missing, f"compiled by real commands but not by econet_ros.kernels: {missing}"

@@ -1,4 +1,4 @@
-"""The paper's open choices as settings (issues 12 and 20), each reading checked on cases worked
+"""The paper's open choices as settings, each reading checked on cases worked
 by hand: Gray and sign-magnitude codes, the body text's weight steps, a bounded body axis, the
 forward shoulder, whole-degree moves and a move past a joint limit cancelled; and the defaults
 leaving stored results as they were."""
@@ -126,7 +126,7 @@ def test_added_settings_are_stored_only_when_not_default():
     assert Config.from_dict(data) == changed and Config.from_dict(stored) == Config()
 
 
-# -- readings added by the science issue (issue 20) ---------------------------------------
+# -- readings of the science settings -----------------------------------------------------
 HOLD = 0.5        # a muscle pair at equal activation, or the eye unit at 0.5: no move
 
 

@@ -1,4 +1,4 @@
-"""The engine against a plain, independent reading of the model (reference_model.py, issue 20):
+"""The engine against a plain, independent reading of the model (reference_model.py):
 for the same weights and trial starts, every trial's fitness, success, latency and separations,
 and its whole course (states, outputs and contact cycle by cycle), under every setting that
 changes the physics. The graph and the Gymnasium env run the engine's kernels; this is what
@@ -17,7 +17,6 @@ was none.
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -244,14 +243,14 @@ def test_a_difference_away_from_every_boundary_is_not_explained(champions):
     trial = ref.run_trial(config, "normal", start, setup.object_xy[0], CYCLES, weights)
     assert not first_parting(trace, 0, trial).what
     row = int(np.argmax(np.abs(trial.gaps[1:]) > 1.0)) + 1       # the hand well off the edge
-    flipped = replace(trace, touch=trace.touch.copy())
+    flipped = trace._replace(touch=trace.touch.copy())
     flipped.touch[row, 0] = not flipped.touch[row, 0]
     parting = first_parting(flipped, 0, trial)
     assert (parting.row, parting.what) == (row, "contact")
     assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting) is None
     trial.gaps[row] = 1e-12                                       # as if on the edge
     assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting) == CONTACT_EDGE
-    moved = replace(trace, shoulder=trace.shoulder.copy())
+    moved = trace._replace(shoulder=trace.shoulder.copy())
     moved.shoulder[row:, 0] += 1.0
     parting = first_parting(moved, 0, trial)
     assert (parting.row, parting.what) == (row, "state")

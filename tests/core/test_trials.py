@@ -42,7 +42,7 @@ def test_compiled_and_per_cycle_drivers_agree_exactly(condition):
     (fast, fast_trace), (slow, slow_trace) = runs
     for field in vars(fast):
         np.testing.assert_array_equal(getattr(fast, field), getattr(slow, field))
-    for field in vars(fast_trace):
+    for field in fast_trace._fields:
         np.testing.assert_array_equal(getattr(fast_trace, field), getattr(slow_trace, field),
                                       err_msg=field)
     assert fast_trace.touch[1:].sum() == fast.fitness.sum()

@@ -241,6 +241,7 @@ def test_kernel_cache_folder_follows_every_module_with_kernels(tmp_path):
     import econet_ros
     package = Path(econet_ros.__file__).parent
     for name in econet_ros.KERNEL_MODULES:
+        (tmp_path / name).parent.mkdir(exist_ok=True)
         shutil.copy(package / name, tmp_path / name)
     before = econet_ros._kernel_cache_dir(tmp_path)
     assert before == econet_ros._kernel_cache_dir(tmp_path)

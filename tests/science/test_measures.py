@@ -2,6 +2,7 @@
 import numpy as np
 import pytest
 
+import behaviour_oracle as oracle
 from econet_ros.science import lesion
 from econet_ros.science import measures as A
 from econet_ros.config import Config
@@ -38,31 +39,32 @@ def far_setup(n, body=0.0, shoulder=90.0, elbow=90.0):
 
 def test_always_flexing_shoulder_gives_100_percent_flexion():
     trace = scripted_trace([0.5, 1.0, 0.0, 0.3, 0.7])
-    assert A.flexion_percent(trace, A.SHOULDER) == pytest.approx(100.0)
-    assert A.flexion_percent(trace, A.ELBOW) == pytest.approx(0.0)
+    assert oracle.flexion_percent(trace, oracle.SHOULDER) == pytest.approx(100.0)
+    assert oracle.flexion_percent(trace, oracle.ELBOW) == pytest.approx(0.0)
 
 
 def test_always_extending_shoulder_locks_it_fully_extended():
     trace = scripted_trace([0.5, 0.0, 1.0, 0.5, 0.5], cycles=40)
-    assert A.flexion_percent(trace, A.SHOULDER) == 0.0
+    assert oracle.flexion_percent(trace, oracle.SHOULDER) == 0.0
     # after at most 12 cycles of 15 deg the shoulder sits at 180 for good
     assert np.all(trace.shoulder[13:] == pytest.approx(180.0))
 
 
 def test_equal_muscles_have_zero_deviation_from_coactivation():
     trace = scripted_trace([0.5, 0.7, 0.7, 0.2, 0.2])
-    co, re = A.activation_deviations(trace, A.SHOULDER)
+    co, re = oracle.activation_deviations(trace, oracle.SHOULDER)
     assert co == pytest.approx(0.0)
     assert re == pytest.approx(abs(0.7 + 0.7 - 1) / np.sqrt(2))
-    co, re = A.activation_deviations(trace, A.ELBOW)
+    co, re = oracle.activation_deviations(trace, oracle.ELBOW)
     assert co == 0.0 and re == pytest.approx(0.6 / np.sqrt(2))
 
 
 def test_reciprocal_muscles_have_zero_deviation_from_reciprocal_line():
     trace = scripted_trace([0.5, 0.9, 0.1, 0.25, 0.75])
-    assert A.activation_deviations(trace, A.SHOULDER)[1] == pytest.approx(0.0)
-    assert A.activation_deviations(trace, A.ELBOW)[1] == pytest.approx(0.0)
-    assert A.activation_deviations(trace, A.SHOULDER)[0] == pytest.approx(0.8 / np.sqrt(2))
+    assert oracle.activation_deviations(trace, oracle.SHOULDER)[1] == pytest.approx(0.0)
+    assert oracle.activation_deviations(trace, oracle.ELBOW)[1] == pytest.approx(0.0)
+    assert oracle.activation_deviations(trace, oracle.SHOULDER)[0] == \
+        pytest.approx(0.8 / np.sqrt(2))
 
 
 def test_deviation_is_the_geometric_distance_to_each_line():
@@ -77,15 +79,15 @@ def test_deviation_is_the_geometric_distance_to_each_line():
 
 def test_still_arm_and_eye_have_zero_speed_and_no_approach():
     trace = scripted_trace([0.5, 0.5, 0.5, 0.5, 0.5])
-    assert A.mean_speed(trace, "hand", None) == pytest.approx(0.0)
-    assert A.mean_speed(trace, "eye", None) == pytest.approx(0.0)
+    assert oracle.mean_speed(trace, "hand", None) == pytest.approx(0.0)
+    assert oracle.mean_speed(trace, "eye", None) == pytest.approx(0.0)
     assert A.approach_probability(trace, None) == 0.0
-    assert A.away_probability(trace, None) == 0.0
+    assert oracle.away_probability(trace, None) == 0.0
 
 
 def test_eye_speed_is_the_body_rotation_per_cycle():
     trace = scripted_trace([1.0, 0.5, 0.5, 0.5, 0.5])          # eye turns +15 deg per cycle
-    assert A.mean_speed(trace, "eye", None) == pytest.approx(15.0)
+    assert oracle.mean_speed(trace, "eye", None) == pytest.approx(15.0)
     # arm locked relative to the body: the hand moves along a circle, chord per 15 deg step
     radius = np.linalg.norm(trace.hand[0], axis=-1)
     chord = 2 * radius * np.sin(np.radians(7.5))
@@ -100,18 +102,17 @@ def test_approach_probability_counts_only_shrinking_gaps():
                           10, record=True)
     d = np.linspace(50, 41, 11)[:, None].repeat(n, axis=1)
     d[6:, :2] = d[5, 0] + 1 + np.arange(5)[:, None]        # envs 0, 1 move away from cycle 5
-    trace.hand_object_distance = d
-    trace.fixated = np.zeros_like(trace.fixated)
+    trace = trace._replace(hand_object_distance=d, fixated=np.zeros_like(trace.fixated))
     trace.fixated[:, 2:] = True                            # envs 2, 3 always fixate
     assert A.approach_probability(trace, True) == pytest.approx(1.0)
     assert A.approach_probability(trace, False) == pytest.approx(5 / 10)
-    assert A.away_probability(trace, False) == pytest.approx(5 / 10)
+    assert oracle.away_probability(trace, False) == pytest.approx(5 / 10)
     assert A.approach_probability(trace, None) == pytest.approx(30 / 40)
 
 
 def test_pre_contact_mask_stops_at_the_first_touch():
     trace = scripted_trace([0.5] * 5, n=3, cycles=6)
-    trace.touch = np.zeros_like(trace.touch)
+    trace = trace._replace(touch=np.zeros_like(trace.touch))
     trace.touch[3, 0] = True         # env 0 touches after cycle 2 (row 3), then lets go
     trace.touch[0, 1] = True         # env 1 starts in contact
     mask = A.pre_contact(trace)
@@ -134,7 +135,7 @@ def test_behaviour_row_groups_top_econets():
             return out
 
     _, trace = run_trials(world, PerEnv(n, config), far_setup(n), 5, record=True)
-    row = A.behaviour_row(trace, 7, np.array([0, 1]), trials)
+    row = oracle.behaviour_row(trace, 7, np.array([0, 1]), trials)
     assert row["generation"] == 7
     assert row["top_shoulder_flexion"] == pytest.approx(100.0)
     assert row["all_shoulder_flexion"] == pytest.approx(50.0)
@@ -147,8 +148,8 @@ def test_behaviour_row_groups_top_econets():
     {"model.angle_steps": "round", "model.joint_limit": "cancel"},
     {"model.start_posture": "extended", "model.object_radius": 6.0}])
 def test_recorded_behaviour_row_equals_the_trace_one_to_the_last_bit(settings):
-    """The study's behaviour row, from the compiled loop's BehaviourRecord, is the one
-    behaviour_row computes from a full Trace of the same trials (repr: every bit, NaN too)."""
+    """The study's behaviour row, from the compiled loop's BehaviourRecord, is the one the
+    NumPy oracle computes from a full Trace of the same trials (repr: every bit, NaN too)."""
     from econet_ros.evolution import InProcessEvaluator, initial_genomes
 
     config = Config().replace(**{"evolution.population": 12, "evolution.parents": 3,
@@ -157,7 +158,7 @@ def test_recorded_behaviour_row_equals_the_trace_one_to_the_last_bit(settings):
     genomes = initial_genomes(config, evaluator.n_weights, 5, 1)
     full = evaluator.test_generation(genomes, 5, 1, 0, record=True)
     lean = evaluator.test_generation(genomes, 5, 1, 0, record="behaviour")
-    expected = A.behaviour_row(full.trace, 0, full.parents, 6)
+    expected = oracle.behaviour_row(full.trace, 0, full.parents, 6)
     got = A.recorded_behaviour_row(lean.trace, lean.measures, 0, lean.parents, 6)
     assert {k: repr(v) for k, v in got.items()} == {k: repr(v) for k, v in expected.items()}
 
@@ -192,8 +193,8 @@ def test_severing_proprioception_removes_its_influence():
 def test_reach_start_is_the_start_of_the_final_approach():
     trace = scripted_trace([0.5] * 5, n=2, cycles=8)
     d = np.array([9, 8, 9, 10, 7, 5, 0, 0, 0], dtype=float)
-    trace.hand_object_distance = np.stack([d, np.full(9, 20.0)], axis=1)
-    trace.touch = trace.hand_object_distance <= 0
+    gap = np.stack([d, np.full(9, 20.0)], axis=1)
+    trace = trace._replace(hand_object_distance=gap, touch=gap <= 0)
     starts, valid = A.reach_starts(trace)
     assert list(valid) == [True, False]
     assert starts[0] == 3                    # 10 -> 7 -> 5 -> 0: the approach starts at row 3
@@ -243,16 +244,17 @@ def test_joint_mobility_tells_a_turning_eye_from_a_frozen_shoulder():
     _, trace = run_trials(world, controller, far_setup(n, elbow=120.0), cycles, record=True)
     pre = A.pre_contact(trace)
     assert pre.all()                                   # the object is out of reach behind
-    assert A.moving_share(trace, "body", pre) == 1.0
-    assert A.moving_share(trace, "shoulder", pre) == 0.0
-    assert A.moving_share(trace, "elbow", pre) == pytest.approx(8 / 12)   # 120 -> 180 in 8
-    assert A.excursion(trace, "body", pre) == pytest.approx(15.0 * cycles)
-    assert A.excursion(trace, "shoulder", pre) == 0.0
-    assert A.excursion(trace, "elbow", pre) == pytest.approx(60.0)
+    assert oracle.moving_share(trace, "body", pre) == 1.0
+    assert oracle.moving_share(trace, "shoulder", pre) == 0.0
+    assert oracle.moving_share(trace, "elbow", pre) == pytest.approx(8 / 12)   # 120 -> 180 in 8
+    assert oracle.excursion(trace, "body", pre) == pytest.approx(15.0 * cycles)
+    assert oracle.excursion(trace, "shoulder", pre) == 0.0
+    assert oracle.excursion(trace, "elbow", pre) == pytest.approx(60.0)
     # 0.6/0.6 at the shoulder is co-contraction; 0.25/0.75 at the elbow is neither
-    assert A.both_share(trace, A.SHOULDER, True, pre) == 1.0
-    assert A.both_share(trace, A.SHOULDER, False, pre) == 0.0
-    assert A.both_share(trace, A.ELBOW, True, pre) == A.both_share(trace, A.ELBOW, False, pre) == 0
+    assert oracle.both_share(trace, oracle.SHOULDER, True, pre) == 1.0
+    assert oracle.both_share(trace, oracle.SHOULDER, False, pre) == 0.0
+    assert oracle.both_share(trace, oracle.ELBOW, True, pre) == \
+        oracle.both_share(trace, oracle.ELBOW, False, pre) == 0
 
 
 def test_latency_of_successes_counts_only_trials_that_touch():
@@ -260,4 +262,4 @@ def test_latency_of_successes_counts_only_trials_that_touch():
     hit = trace.touch[1:].any(axis=0)
     first = trace.touch[1:].argmax(axis=0) + 1
     expected = first[hit].mean() if hit.any() else np.nan
-    np.testing.assert_equal(A.latency_of_successes(trace), expected)
+    np.testing.assert_equal(oracle.latency_of_successes(trace), expected)

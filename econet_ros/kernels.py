@@ -1,17 +1,20 @@
-#!/usr/bin/env python3
-"""Compile the model's numba kernels into the cache once, so that the first `econet evolve`, the
-first node and the first benchmark after `scripts/setup` run as fast as later ones.
+"""Compile every kernel of the package into the numba cache, once.
 
-    . scripts/env.sh && python scripts/compile_kernels.py            # compile (about 2 minutes)
-    . scripts/env.sh && python scripts/compile_kernels.py --signatures FILE
+So that the first `econet evolve`, the first node and the first benchmark after `scripts/setup`
+run as fast as later ones:
+
+    . scripts/env.sh && python -m econet_ros.kernels            # compile (about 2 minutes)
+    . scripts/env.sh && python -m econet_ros.kernels --signatures FILE
                                                    # also write every compiled signature (tests)
 
 numba compiles a kernel for each combination of argument types it is called with, so this runs
 every path a command takes (evolution under each condition, with and without traces, the
 study's behaviour rows, the per-cycle API the nodes and the Gymnasium env call) at a tiny size:
-the types, not the sizes, decide what is compiled. scripts/setup runs it when the kernel cache
-for the current sources (econet_ros.KERNEL_MODULES) is missing and leaves a stamp beside it;
-tests/core/test_compile_kernels.py checks that real commands compile nothing it left out.
+the types, not the sizes, decide what is compiled. The modules with kernels are listed in
+econet_ros.KERNEL_MODULES, beside the import-time code that keys the cache folder by their
+content. scripts/setup runs this when the cache for the current sources is missing and leaves
+a stamp beside it; tests/core/test_compile_kernels.py checks that real commands compile nothing
+it left out.
 """
 from __future__ import annotations
 
@@ -24,16 +27,16 @@ import time
 from pathlib import Path
 
 import numpy as np
+from numba.core import config as numba_config
 
-import econet_ros
-from econet_ros import KERNEL_MODULES
-from econet_ros.config import CONDITIONS, Config
-from econet_ros.evolution import InProcessEvaluator
-from econet_ros.nodes.lockstep_wire import SensorMessages
-from econet_ros.plugins import make_controller
-from econet_ros.runs import evolve_into
-from econet_ros.science.study import run_with_behaviour
-from econet_ros.world import World, sample_setups
+from . import KERNEL_MODULES
+from .config import CONDITIONS, Config
+from .evolution import InProcessEvaluator
+from .nodes.lockstep_wire import SensorMessages
+from .plugins import make_controller
+from .runs import evolve_into
+from .science.study import run_with_behaviour
+from .world import World, sample_setups
 
 TINY = {"evolution.population": 4, "evolution.parents": 2, "evolution.trials": 2,
         "evolution.cycles": 3, "evolution.generations": 2}
@@ -75,7 +78,8 @@ def compiled_signatures() -> dict[str, list[str]]:
     """Every kernel of the package and the argument types it has been compiled for."""
     found = {}
     for module_name in KERNEL_MODULES:
-        module = importlib.import_module(f"econet_ros.{module_name.removesuffix('.py')}")
+        dotted = module_name.removesuffix(".py").replace("/", ".")
+        module = importlib.import_module(f"econet_ros.{dotted}")
         for name, value in vars(module).items():
             if hasattr(value, "signatures") and hasattr(value, "py_func"):
                 found[f"{module.__name__}.{name}"] = sorted(str(s) for s in value.signatures)
@@ -91,9 +95,8 @@ def main() -> int:
     warm_every_path()
     if args.signatures:
         args.signatures.write_text(json.dumps(compiled_signatures(), indent=1))
-    from numba.core import config as numba_config
     print(f"kernels compiled into {numba_config.CACHE_DIR} in "
-          f"{time.perf_counter() - start:.0f} s (econet_ros {econet_ros.__file__})")
+          f"{time.perf_counter() - start:.0f} s (econet_ros {Path(__file__).parent})")
     return 0
 
 
