@@ -5,7 +5,7 @@
 
 In an empty kernel cache of its own (NUMBA_CACHE_DIR, so the user's cache is untouched) it times,
 in fresh processes: `econet evolve` with no compiled kernels (what a fresh clone paid before
-scripts/setup compiled them), scripts/compile_kernels.py (the set-up step), then the first
+scripts/setup compiled them), python -m econet_ros.kernels (the set-up step), then the first
 `econet evolve` after it and a second, warm one. All runs are one paper-size run (200
 generations) with the same seed; target: first after set-up <= 1.5x the warm run.
 """
@@ -44,7 +44,7 @@ def main() -> int:
 
         figures = {"econet evolve, nothing compiled": evolve("uncompiled")}
         subprocess.run(["rm", "-rf", env["NUMBA_CACHE_DIR"]], check=True)
-        figures["scripts/compile_kernels.py (set-up)"] = timed(
+        figures["python -m econet_ros.kernels (set-up)"] = timed(
             ["-m", "econet_ros.kernels"], env)
         figures["first econet evolve after set-up"] = evolve("first")
         figures["warm econet evolve"] = evolve("warm")
