@@ -1,4 +1,4 @@
-"""The node graph under bad input and faults (issue 16), each probe once and small: malformed
+"""The node graph under bad input and faults, each probe once and small: malformed
 sensor messages and requests, a burst of calls, strangers on the graph's topics and services,
 two graphs in one namespace, a paused reader of the lockstep topics and nodes killed and
 restarted during a supervisor run. Every process must live on without a traceback, and every
@@ -7,7 +7,7 @@ result folder must equal the undisturbed in-process run's, byte for byte.
 A process killed or paused stays listed until its DDS lease runs out (Fast DDS: 20 s). The
 graph's nodes here announce a 3 s lease (a Fast DDS profile), so that a killed node costs
 seconds; the paused monitor keeps the default, so that the graph goes on sending to it, and so
-does the graph whose controller is killed for good, as a user's would (issue 22)."""
+does the graph whose controller is killed for good, as a user's would."""
 import array
 import os
 import signal
