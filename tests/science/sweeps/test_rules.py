@@ -73,13 +73,14 @@ def test_the_rule_is_kept_in_the_sweep_folder(tmp_path):
         "map": "load-map"}
 
 
-def test_a_folder_made_before_rules_is_given_the_rule_but_not_other_runs(tmp_path):
+def test_a_folder_made_before_rules_is_refused_then_given_the_rule_but_not_other_runs(tmp_path):
     spec = load_spec(SPECS / "readings.toml")
     stored = spec.to_dict()
     del stored["rule"]                       # as written before sweeps named rules
     stored["description"] = "an older wording"
     (tmp_path / "sweep.json").write_text(json.dumps(stored), encoding="utf-8")
-    assert load_sweep(tmp_path).rule == {}
+    with pytest.raises(ResultsError, match="before sweeps named their decision rule"):
+        load_sweep(tmp_path)                 # its report would lack the rule's sections
     prepare_folder(spec, tmp_path)           # what `econet sweep run SPEC --out DIR` does first
     assert load_sweep(tmp_path).rule == {"name": "readings"}
     other = load_spec(SPECS / "readings.toml")
