@@ -345,7 +345,8 @@ def read_sessions(folder: Path) -> list[dict]:
     if data.get("format") != PROVENANCE_FORMAT or not isinstance(sessions, list) or not all(
             isinstance(s, dict) and isinstance(s.get("commit"), str) for s in sessions):
         raise ResultsError(f"{path} is damaged or of another version (expected "
-                           f"{PROVENANCE_FORMAT!r} with a list of sessions)")
+                           f"{PROVENANCE_FORMAT!r} with a list of sessions); remove it to go "
+                           "on without the record of the run's earlier sessions")
     return sessions
 
 

@@ -66,6 +66,22 @@ def test_a_finished_run_run_again_keeps_its_record(tmp_path):
     assert (tmp_path / "run-01" / PROVENANCE_FILE).read_bytes() == before
 
 
+def test_a_damaged_record_is_one_line_naming_it_and_its_removal_lets_the_run_go_on(
+        tmp_path, capsys):
+    assert main(["evolve", "--out", str(tmp_path), *TINY]) == 0
+    metrics = tmp_path / "run-01" / "metrics.csv"
+    metrics.write_bytes(b"".join(metrics.read_bytes().splitlines(keepends=True)[:2]))
+    record = tmp_path / "run-01" / PROVENANCE_FILE
+    record.write_text('{"format": "econet-provenance/1", "sessions": {}}')
+    assert main(["evolve", "--out", str(tmp_path), *TINY]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{record} is damaged" in err and "remove it" in err, err
+    record.unlink()
+    assert main(["evolve", "--out", str(tmp_path), *TINY]) == 0
+    [session] = read_sessions(tmp_path / "run-01")
+    assert session["first_generation"] == 1
+
+
 def test_a_folder_from_before_provenance_has_no_recorded_code(tmp_path):
     assert read_sessions(tmp_path) == [] and run_code(tmp_path) == ("", None)
     assert "no recorded commit" in made_with([run_code(tmp_path)])
