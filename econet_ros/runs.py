@@ -12,6 +12,9 @@ A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .n
     best_genomes.npy  (generations, n_weights) codes of each generation's fittest econet
     controller.json   the controller plug-in the run was evolved with (econet evolve
                       --controller); absent for the condition's own network
+    provenance.json   which code wrote the folder and when: one entry per session (a resumed
+                      run adds one); kept apart so that the files above stay byte-identical
+                      whoever makes them (provenance.py)
     .lock             held by the process writing the folder (a second writer is refused)
 
 metrics.csv is written last for each generation and is the record of what has finished: a run
@@ -45,6 +48,7 @@ from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_
                     remove_torn_writes, start_table, stored_whole_number, table_rows,
                     write_atomically, writing)
 from .optimizers import make_optimizer
+from .provenance import code, now
 from .trials import Record
 
 FORMAT = "econet-run/1"
@@ -53,6 +57,8 @@ MEASURES = ("fitness", "successes", "latency", "separations")
 METRIC_COLUMNS = ["generation", "best_fitness"] + [f"{g}_{m}" for g in GROUPS for m in MEASURES]
 RUN_FOLDERS = "run-*"                  # the run folders under an output folder (run_folder)
 CONTROLLER_FILE = "controller.json"    # which controller plug-in a run folder was evolved with
+PROVENANCE_FILE = "provenance.json"    # which code wrote a run folder, and when
+PROVENANCE_FORMAT = "econet-provenance/1"
 
 
 def generation_metrics(result: GenerationResult) -> dict[str, float]:
@@ -291,15 +297,67 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
         done, genomes = store.open(optimizer.first_generation)
         if done:
             optimizer.catch_up(store.fitness_rows(done), genomes)
-        if on_open:
-            on_open(done)
-        for generation in range(done, config.evolution.generations):
-            result = evaluator.test_generation(genomes, seed, run, generation, record)
-            genomes = optimizer.breed(result)
-            store.write(result, genomes)
-            if on_generation:
-                on_generation(result, genomes)
+        with recording_session(store.path, done, config.evolution.generations):
+            if on_open:
+                on_open(done)
+            for generation in range(done, config.evolution.generations):
+                result = evaluator.test_generation(genomes, seed, run, generation, record)
+                genomes = optimizer.breed(result)
+                store.write(result, genomes)
+                if on_generation:
+                    on_generation(result, genomes)
     return config.evolution.generations
+
+
+# -- provenance: which code wrote a run folder, and when ---------------------------------------
+@contextmanager
+def recording_session(folder: Path, first_generation: int, generations: int) -> Iterator[None]:
+    """Record in the folder's PROVENANCE_FILE a session that evolves it on from
+    ``first_generation``: this process's code (provenance.code) and start time when it starts,
+    its end time when it finishes; a session cut short keeps "ended": null and the session that
+    resumes it follows. A finished run is left as it is. Only under the folder's lock."""
+    if first_generation == generations:
+        yield
+        return
+    path = Path(folder) / PROVENANCE_FILE
+    sessions = read_sessions(folder)
+    session = {"started": now(), "ended": None, "first_generation": first_generation, **code()}
+    sessions.append(session)
+    _write_sessions(path, sessions)
+    yield
+    session["ended"] = now()
+    _write_sessions(path, sessions)
+
+
+def _write_sessions(path: Path, sessions: list[dict]) -> None:
+    write_atomically(path, json.dumps({"format": PROVENANCE_FORMAT, "sessions": sessions},
+                                      indent=2) + "\n")
+
+
+def read_sessions(folder: Path) -> list[dict]:
+    """The sessions a run folder's PROVENANCE_FILE records, oldest first ([] for a folder made
+    before run folders recorded them); ResultsError for a damaged file."""
+    path = Path(folder) / PROVENANCE_FILE
+    if not path.exists():
+        return []
+    data = read_json_object(path)
+    sessions = data.get("sessions")
+    if data.get("format") != PROVENANCE_FORMAT or not isinstance(sessions, list) or not all(
+            isinstance(s, dict) and isinstance(s.get("commit"), str) for s in sessions):
+        raise ResultsError(f"{path} is damaged or of another version (expected "
+                           f"{PROVENANCE_FORMAT!r} with a list of sessions); remove it to go "
+                           "on without the record of the run's earlier sessions")
+    return sessions
+
+
+def run_code(folder: Path) -> tuple[str, bool | None]:
+    """The code that made a run: the distinct commits of its sessions, space-separated in the
+    order they wrote ("" when none were recorded), and whether any ran with uncommitted changes
+    (None when that is not known of every session)."""
+    sessions = read_sessions(folder)
+    commits = " ".join(dict.fromkeys(s["commit"] for s in sessions))
+    dirty = {s.get("dirty") for s in sessions}
+    return commits, True if True in dirty else (False if dirty == {False} else None)
 
 
 # -- output folders of runs --------------------------------------------------------------------
@@ -404,7 +462,7 @@ def summarize(out: Path, runs: int) -> str:
         lines.append(f"  {data.path.name}: top-20 fitness {top[0]:.1f} (gen 0) -> {top[-1]:.1f} "
                      f"(gen {data.generations_done - 1}), best {best}")
     lines.append("  per run: run.json (settings), metrics.csv (one row per generation), "
-                 "genomes.npy, fitness.npy, best_genomes.npy")
+                 "genomes.npy, fitness.npy, best_genomes.npy, provenance.json (code and times)")
     return "\n".join(lines)
 
 

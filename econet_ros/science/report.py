@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
+from ..provenance import made_with
 from . import holding
 from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
@@ -25,7 +26,7 @@ from .lesion import LESION_TRIALS, lesion_study
 from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import estimate, median
-from .study import ConditionData, StudySpec, load_study, optimizer_only
+from .study import ConditionData, StudySpec, load_study, optimizer_only, run_codes
 from .sweeps.outcomes import tidy_rows
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.rules import Swept, choose_defaults, rule_of
@@ -169,7 +170,9 @@ def _title(analysis: Analysis) -> list[str]:
     return ["# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
             f"Made by `econet analyze {analysis.out}` from the study folder `{analysis.out}` "
             "(`econet study` = `scripts/run`). Measures are defined in "
-            "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n"]
+            "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n",
+            made_with(run_codes(analysis.spec, analysis.out),
+                      [sweep.registration() for sweep in analysis.swept]) + "\n"]
 
 
 def _settings(analysis: Analysis) -> list[str]:

@@ -30,7 +30,8 @@ from ..errors import ResultsError
 from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
-from ..runs import METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay, run_folder
+from ..runs import (METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay,
+                    run_code, run_folder)
 from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
@@ -165,6 +166,12 @@ def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path
                 tasks.append((cfg, spec.seed, run, run_folder(folder / condition, run)))
     # random-movement runs are cheaper: schedule them last
     return sorted(tasks, key=lambda t: t[0].evolution.condition == "random")
+
+
+def run_codes(spec: StudySpec, out: Path) -> list[tuple[str, bool | None]]:
+    """The code that made each run the study folder holds (runs.run_code)."""
+    return [run_code(folder) for *_, folder in study_tasks(spec, out)
+            if (folder / "run.json").exists()]
 
 
 # -- one run, with behaviour rows ----------------------------------------------------------------

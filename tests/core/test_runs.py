@@ -1,8 +1,8 @@
 """Run folders and the generation loop: a resumed run writes the same files as an uninterrupted
-one, a torn metrics line is redone, the temporary file of a killed write is removed, replay
-reproduces the stored fitness, --overwrite clears under the folder lock, and the controller
-record keeps runs of different controllers apart (faults while writing:
-tests/cli/test_bad_input_and_faults.py)."""
+one (its provenance adds a session), a torn metrics line is redone, the temporary file of a
+killed write is removed, replay reproduces the stored fitness, --overwrite clears under the
+folder lock, and the controller record keeps runs of different controllers apart (faults while
+writing: tests/cli/test_bad_input_and_faults.py)."""
 import json
 
 import numpy as np
@@ -13,8 +13,8 @@ from econet_ros.errors import UsageError
 from econet_ros.evolution import InProcessEvaluator
 from econet_ros.files import locked
 from econet_ros.plugins import make_controller
-from econet_ros.runs import (CONTROLLER_FILE, RunData, controller_record, record_controller,
-                             replay, run_condition, writing_into)
+from econet_ros.runs import (CONTROLLER_FILE, RunData, controller_record, read_sessions,
+                             record_controller, replay, run_condition, writing_into)
 
 
 def small_config(**changes):
@@ -43,12 +43,19 @@ def test_resumed_run_writes_the_same_files_as_an_uninterrupted_one(tmp_path):
     with pytest.raises(Interrupt):
         run_condition(config, 1, 11, tmp_path / "split", progress=False, evaluator=evaluator)
     assert RunData(tmp_path / "split" / "run-01").generations_done == 3
+    whole, split = tmp_path / "whole" / "run-01", tmp_path / "split" / "run-01"
+    [cut] = read_sessions(split)
+    assert cut["first_generation"] == 0 and cut["ended"] is None
     run_condition(config, 1, 11, tmp_path / "split", progress=False)
 
-    whole, split = tmp_path / "whole" / "run-01", tmp_path / "split" / "run-01"
     assert (whole / "metrics.csv").read_bytes() == (split / "metrics.csv").read_bytes()
     for name in ("genomes.npy", "fitness.npy", "best_genomes.npy", "run.json"):
         assert (whole / name).read_bytes() == (split / name).read_bytes(), name
+    [alone] = read_sessions(whole)
+    first, resumed = read_sessions(split)
+    assert first == cut and alone["first_generation"] == 0 and alone["ended"]
+    assert resumed["first_generation"] == 3 and resumed["started"] <= resumed["ended"]
+    assert resumed["commit"] == alone["commit"]
 
 
 def test_a_torn_metrics_line_is_redone_on_resume(tmp_path):

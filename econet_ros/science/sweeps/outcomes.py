@@ -1,7 +1,8 @@
 """What a sweep measures of each run: the outcomes (a metrics.csv or behaviour.csv column, or a
 ratio of two) as a run's mean over an early window (the first 10% of generations) and a late
 one (the last 10%), its size and mutational load, whether it holds, and the tidy table of every
-run's outcomes that the sweep report, the decision rules and `econet compare` read."""
+run's outcomes that the sweep report, the decision rules and `econet compare` read, with the code
+that made each run."""
 from __future__ import annotations
 
 import math
@@ -13,7 +14,7 @@ import numpy as np
 from ...config import Config
 from ...errors import ResultsError
 from ...files import table_rows
-from ...runs import RunData
+from ...runs import RunData, run_code
 from .. import holding
 from ..measures import BEHAVIOUR_COLUMNS
 from .plan import SweepSpec
@@ -90,7 +91,9 @@ def bit_flips_per_copy(config: Config, weights: int) -> float:
 def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
     """One row per (cell, condition, seed): the network's weights and the mutational load of a
     copy, the outcomes in each window (NaN for a missing or unfinished run, which the row's
-    `generations_done` shows) and whether the run holds (holding.py)."""
+    `generations_done` shows), whether the run holds (holding.py), and the code that made it:
+    its commits and whether any ran with uncommitted changes (runs.run_code; empty for a run
+    from before run folders recorded them)."""
     rows = []
     for run in sorted(spec.runs(), key=lambda r: (r.cell, r.condition, r.seed)):
         row = {"cell": run.cell, "condition": run.condition, "seed": run.seed}
@@ -110,5 +113,7 @@ def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
                 row[f"{outcome.name}_{name}"] = value
         row["holding_late"] = holding.kind(row["top_separations_per_success_late"]) \
             if complete else ""
+        commits, dirty = run_code(folder) if data else ("", None)
+        row.update(commit=commits, dirty="" if dirty is None else dirty)
         rows.append(row)
     return rows

@@ -7,6 +7,7 @@ import csv
 from pathlib import Path
 
 from ...errors import ResultsError
+from ...provenance import made_with
 from .. import holding
 from ..stats import estimate, median, paired, share
 from .figures import comparison_figure, gallery, outcome_figure
@@ -110,7 +111,8 @@ def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out:
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
              "by seed. Intervals: 95% Student-t over seeds; d_z = mean difference / "
              "s.d. of the differences. Files: outcomes.csv (one row per run), comparisons.csv."
-             "\n"]
+             "\n", made_with([(r["commit"], r["dirty"] is True) for r in rows
+                             if r["generations_done"]], [Swept(spec, rows).registration()]) + "\n"]
     if notes:
         lines.append("**Incomplete runs** (their outcomes are left out):\n")
         lines += [f"- {note}" for note in notes] + [""]

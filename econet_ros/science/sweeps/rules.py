@@ -1,9 +1,11 @@
 """The decision rules a sweep can name, by name (RULES): `rule = "NAME"` in its TOML, or a [rule]
-table with `name = "NAME"` and the cells (and companion sweep) the rule needs. A rule says what
-its sweep's summary shows (markdown, figures), what it makes of the defaults, and what it adds
-to the study report's architecture section; the report asks the rule and never the sweep's
-name. The rules' arithmetic lives in regime.py (the decision rule of "Finding the paper's
-regime") and confirm.py (the pre-registered rule: H1-H3 and the exploratory readings)."""
+table with `name = "NAME"` and the cells (and companion sweep) the rule needs, and, for a rule
+committed before its sweep ran, `registered = "<commit>"`: the commit that registered it. A
+rule says what its sweep's summary shows (markdown, figures), what it makes of the defaults,
+and what it adds to the study report's architecture section; the report asks the rule and
+never the sweep's name. The rules' arithmetic lives in regime.py (the decision rule of "Finding
+the paper's regime") and confirm.py (the pre-registered rule: H1-H3 and the exploratory
+readings)."""
 from __future__ import annotations
 
 import os
@@ -11,10 +13,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ...errors import ConfigError
+from ...provenance import registration
 from . import confirm, regime
 from .figures import LOAD_MAP, load_map_figure
 from .plan import SweepSpec
 
+REGISTERED = "registered"    # a [rule] table's option: the commit that pre-registered the rule
 PREREGISTERED = "## The pre-registered rule (docs/preregistrations.md, \"The confirmatory study\")\n"
 
 
@@ -31,6 +35,14 @@ class Swept:
     def options(self) -> dict:
         return self.spec.rule
 
+    def registration(self) -> str:
+        """Whether the commit that registered the sweep's rule is an ancestor of the commits of
+        all its runs, as a sentence ("" for a rule without a registration)."""
+        if REGISTERED not in self.options:
+            return ""
+        return registration(self.options[REGISTERED],
+                            [row["commit"] for row in self.rows if row["generations_done"]])
+
 
 class Rule:
     """No rule: the general tables only. A rule names the options its [rule] table takes: CELLS
@@ -46,7 +58,7 @@ class Rule:
         """ConfigError (one line) unless the options are this rule's, each naming what it
         should: cells the sweep has, or another sweep."""
         needed, allowed = {*self.cells, *self.pairs}, {*self.cells, *self.pairs, *self.sweeps}
-        given = set(options) - {"name"}
+        given = set(options) - {"name", REGISTERED}
         if not needed <= given <= allowed:
             raise ConfigError(f"rule '{self.name}' takes the option(s) "
                               f"{', '.join(sorted(allowed)) or 'none'} in a [rule] table, got "

@@ -6,7 +6,9 @@ to its workers. A worker evolves its run in a temporary folder of its own machin
 the folder's files; the driver writes every run folder, so a cluster needs no shared
 filesystem. A run whose worker dies is retried by Ray, and runs are deterministic, so retried
 runs, and a sweep resumed after an interruption (finished runs are skipped, unfinished ones run
-again), give byte-identical folders.
+again), give byte-identical folders (all but provenance.json, the worker's record of the code
+that evolved the run and when: on a cluster, the code the driver shipped, whose commit the
+driver passes along).
 """
 from __future__ import annotations
 
@@ -21,6 +23,7 @@ from tqdm import tqdm
 
 from ...config import Config
 from ...errors import UsageError
+from ...provenance import SHIPPED, shipped
 from ...runs import evolve_into
 from ..study import run_with_behaviour
 from .plan import Run, SweepSpec
@@ -104,7 +107,8 @@ def _connect(address: str | None, workers: int | None):
     if address:
         _check_reachable(address)
         package = Path(__file__).resolve().parents[1]
-        ray.init(address=address, runtime_env={"py_modules": [str(package)]}, **quiet)
+        ray.init(address=address, runtime_env={"py_modules": [str(package)],
+                                               "env_vars": {SHIPPED: shipped()}}, **quiet)
     else:
         os.environ.setdefault("RAY_DEDUP_LOGS", "0")
         ray.init(num_cpus=workers or os.cpu_count() or 1, **quiet)

@@ -25,8 +25,10 @@ A sweep specification is a TOML file (read with the standard library's tomllib):
 
 A rule that needs named cells (or a companion sweep) takes them in a [rule] table instead of
 the rule = "NAME" line, e.g. name = "confirmatory" and four = "four-2-2-4" (each rule's options:
-rules.py). Without a rule the report shows the general tables only (cells, outcomes,
-comparisons, holding) and the sweep adds nothing to a study report's choice of defaults.
+rules.py); a pre-registered rule names the commit that registered it, registered = "<commit>",
+and the report checks that it precedes every run's commit. Without a rule the report shows the
+general tables only (cells, outcomes, comparisons, holding) and the sweep adds nothing to a
+study report's choice of defaults.
 
 Every cell runs every seed, and a run is (cell, condition, seed) evolved as run 1 of that seed,
 so the same seed gives the same trial starts in every cell and condition: runs pair by seed.
@@ -43,9 +45,10 @@ from typing import Any
 
 from ...config import CONDITIONS, SETTINGS, Config
 from ...errors import ConfigError, ResultsError
+from ...provenance import COMMIT
 from ...runs import RunData
 from .plan import FORMAT, Cell, Run, SweepSpec
-from .rules import RULES
+from .rules import REGISTERED, RULES
 
 RESERVED = ("evolution.condition", "evolution.generations")
 TOP_KEYS = {"name", "description", "generations", "seeds", "conditions", "behaviour",
@@ -119,6 +122,11 @@ def _rule(value: Any) -> dict:
             or choice["name"] not in RULES:
         raise ConfigError(f"rule must be one of {', '.join(RULES)} (or a [rule] table with "
                           f"name = one of them), got {value!r}")
+    registered = choice.get(REGISTERED)
+    if registered is not None and not (isinstance(registered, str)
+                                       and COMMIT.fullmatch(registered)):
+        raise ConfigError(f"rule option {REGISTERED} must be a git commit (7 to 40 lowercase hex "
+                          f"digits), got {registered!r}")
     return dict(choice)
 
 

@@ -1,5 +1,6 @@
 """A sweep names its decision rule in its TOML: the rule is checked when the spec is read, kept in
-the sweep folder, and the reports ask the rule, never the sweep's name."""
+the sweep folder, and the reports ask the rule, never the sweep's name; a pre-registered rule
+names the commit that registered it, which the report checks against the runs' commits."""
 import json
 import math
 from pathlib import Path
@@ -15,6 +16,8 @@ from econet_ros.science.sweeps.spec import load_spec, load_sweep, prepare_folder
 from test_confirm import confirm_rows
 
 SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+# the commit that wrote the confirmatory study's and the map's pre-registration into the docs
+REGISTRATION = "8b795cf729e77c19bbb05e21bbfdc270fb52c859"
 CELLS = """
 [cells.F]
 conditions = ["normal"]
@@ -53,6 +56,8 @@ def test_an_unknown_rule_is_refused_in_one_line_naming_the_known_ones(tmp_path):
     ('name = "confirmatory"\nfour = "F"\npaper = "T"\nmatched = "X"\nmap = "m"', "X"),
     ('name = "load-map"\nequal_low = ["F"]\nequal_high = ["F", "T"]', "equal_low"),
     ('name = "regime"\nfour = "F"', "four"),                  # the regime rule takes none
+    ('name = "regime"\nregistered = "HEAD"', "registered must be a git commit"),
+    ('name = "regime"\nregistered = 8', "registered must be a git commit"),
 ])
 def test_a_rule_table_must_name_the_cells_its_rule_needs(tmp_path, table, wrong):
     with pytest.raises(ConfigError, match=wrong):
@@ -70,7 +75,18 @@ def test_the_rule_is_kept_in_the_sweep_folder(tmp_path):
     prepare_folder(spec, tmp_path)
     assert load_sweep(tmp_path).rule == spec.rule == {
         "name": "confirmatory", "four": "four-2-2-4", "paper": "three-8", "matched": "three-4",
-        "map": "load-map"}
+        "map": "load-map", "registered": REGISTRATION}
+
+
+def test_the_pre_registered_sweeps_name_their_registration_and_the_report_checks_it():
+    for name in ("confirm", "load-map"):
+        assert load_spec(SPECS / f"{name}.toml").rule["registered"] == REGISTRATION
+    rows = [{**row, "commit": "", "dirty": ""} for row in confirmed_rows()]
+    sweep = Swept(load_spec(SPECS / "confirm.toml"), rows)
+    said = sweep.registration()
+    assert said.startswith(f"Pre-registered at commit `{REGISTRATION[:12]}`")
+    assert f"of 0 of its {len(rows)} run(s); {len(rows)} cannot be checked here" in said
+    assert Swept(load_spec(SPECS / "arch-x-mutation.toml"), rows).registration() == ""
 
 
 def test_a_folder_made_before_rules_is_refused_then_given_the_rule_but_not_other_runs(tmp_path):

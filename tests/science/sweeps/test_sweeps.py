@@ -1,6 +1,6 @@
 """econet sweep: the specification's one-line errors, runs on local Ray equal to runs made in
-process, resuming, a killed worker, a two-node cluster without a shared result folder, and the
-report's tables."""
+process, resuming, a killed worker, a two-node cluster without a shared result folder, the
+provenance the workers record, and the report's tables."""
 from __future__ import annotations
 
 import csv
@@ -18,6 +18,8 @@ import numpy as np
 import pytest
 
 from econet_ros.cli import main
+from econet_ros.provenance import code
+from econet_ros.runs import PROVENANCE_FILE, read_sessions
 from econet_ros.science.study import run_with_behaviour
 from econet_ros.science.sweeps.spec import load_spec
 
@@ -59,9 +61,16 @@ def write_spec(folder: Path, text: str = TINY, name: str = "spec.toml") -> Path:
 
 
 def folder_bytes(folder: Path) -> dict[str, bytes]:
-    """A run folder's result files (not its lock file)."""
+    """A run folder's result files (not its lock file, nor its provenance: when it was made)."""
     return {p.name: p.read_bytes() for p in sorted(folder.iterdir())
-            if not p.name.startswith(".")}
+            if not p.name.startswith(".") and p.name != PROVENANCE_FILE}
+
+
+def assert_made_by_one_session_of_this_code(folder: Path) -> None:
+    """The run's provenance, recorded by the worker that evolved it, travelled with its files."""
+    [session] = read_sessions(folder)
+    assert session["first_generation"] == 0 and session["started"] <= session["ended"]
+    assert (session["commit"], session["dirty"]) == (code()["commit"], code()["dirty"])
 
 
 def in_process(spec_path: Path, tmp: Path) -> dict[tuple, dict[str, bytes]]:
@@ -137,6 +146,7 @@ def test_sweep_runs_equal_runs_made_in_process(swept):
         assert set(got) == {"run.json", "metrics.csv", "genomes.npy", "fitness.npy",
                             "best_genomes.npy", "behaviour.csv"}
         assert got == made[run.cell, run.condition, run.seed], run
+        assert_made_by_one_session_of_this_code(run.folder(out))
     config = json.loads((out / "gray" / "normal" / "seed-004" / "run.json").read_text())
     assert config["config"]["evolution"]["genome_code"] == "gray"
 
@@ -154,6 +164,7 @@ def test_a_second_call_skips_finished_runs_and_redoes_unfinished_ones(swept, tmp
     assert main(["sweep", "run", str(spec_path), "--out", str(copy), "--quiet"]) == 0
     for run in load_spec(spec_path).runs():
         assert folder_bytes(run.folder(copy)) == made[run.cell, run.condition, run.seed]
+        assert_made_by_one_session_of_this_code(run.folder(copy))  # a redone run: from scratch
     assert untouched.stat().st_mtime_ns == before
 
 
@@ -182,6 +193,9 @@ def test_report_tables_pair_runs_by_seed(swept, capsys):
     assert len(rows) == 6
     assert {"cell", "condition", "seed", "top_fitness_late", "top_latency_success_early",
             "top_separations_per_success_late", "top_eye_speed_fix_late"} <= set(rows[0])
+    dirty = code()["dirty"]
+    assert {(r["commit"], r["dirty"]) for r in rows} == {
+        (code()["commit"], "" if dirty is None else str(dirty))}
     with open(out / "comparisons.csv") as handle:
         compared = list(csv.DictReader(handle))
     within = [r for r in compared if r["a"] == "narrow/normal" and r["outcome"] ==
@@ -194,7 +208,8 @@ def test_report_tables_pair_runs_by_seed(swept, capsys):
     assert int(within[0]["a_above_b"]) == sum(d > 0 for d in diffs)
     assert {r["b"] for r in compared if r["a"] == "gray/normal"} == {"narrow/normal"}
     assert (out / "figures" / "outcomes.png").stat().st_size > 0
-    assert "Paired comparisons" in (out / "summary.md").read_text()
+    summary = (out / "summary.md").read_text()
+    assert "Paired comparisons" in summary and "its 6 run(s) with " in summary
 
 
 KILL = TINY.replace("generations = 3", "generations = 25").replace(
@@ -270,6 +285,7 @@ def test_a_two_node_cluster_without_a_shared_folder_gives_the_local_results(swep
                      cluster.address, "--quiet"]) == 0
         for run in load_spec(spec_path).runs():
             assert folder_bytes(run.folder(out)) == made[run.cell, run.condition, run.seed]
+            assert_made_by_one_session_of_this_code(run.folder(out))     # the shipped code's
         # both nodes worked, and neither left a result behind: the driver wrote them all
         assert len({p.name for p in Path(second).glob("session_*/logs/worker-*.out")}) > 0
         assert not list(Path(second).rglob("metrics.csv"))
