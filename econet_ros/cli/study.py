@@ -22,8 +22,10 @@ def add_parser(commands) -> None:
                     "a report comparing every claim of the paper's Results section with our "
                     "data. Re-running the same command resumes an interrupted study.")
     add_run_options(study, out="results/study")
-    study.add_argument("--jobs", type=positive, default=max(1, min(os.cpu_count() or 1, 8)),
-                       help="worker processes (default: the number of CPUs, %(default)s)")
+    study.add_argument("--jobs", type=positive, default=len(os.sched_getaffinity(0)),
+                       help="worker processes, each evolving one run at a time (default: every "
+                            "CPU this process may use, %(default)s here; the results do not "
+                            "depend on it)")
     study.add_argument("--sensitivity", metavar="VARIANT", action="append",
                        help="also run a sensitivity variant (hidden-4-4-8, hidden-8-8-16, "
                             "object-radius-4, or all); repeatable; may be added to an "

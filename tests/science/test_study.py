@@ -54,6 +54,17 @@ def test_study_writes_every_condition_with_behaviour_rows(tiny_study):
     assert not (variant / "random").exists() and not (variant / "three-layer").exists()
 
 
+def test_worker_processes_do_not_change_the_results(tiny_study, tmp_path):
+    """--jobs defaults to every CPU, so a study on another machine must not differ by it."""
+    out = tmp_path / "two-jobs"
+    run_study(tiny_spec(), out, jobs=2, progress=False)
+    for condition in ("normal", "three-layer", "random"):
+        for run in ("run-01", "run-02"):
+            for name in ("metrics.csv", "behaviour.csv", "genomes.npy", "fitness.npy"):
+                made = (out / condition / run / name).read_bytes()
+                assert made == (tiny_study / condition / run / name).read_bytes(), name
+
+
 def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
     report, notes = build_report(tiny_study, tmp_path / "report.md")
     assert notes == []
