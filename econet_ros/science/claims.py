@@ -126,7 +126,7 @@ def claim(key: str, section: str, paper: str, rule: str, *, nulls: tuple[str, ..
     return register
 
 
-def premise(key: str, ev: Evidence) -> Judged:
+def judged_as(key: str, ev: Evidence) -> Judged:
     """Another claim's judgement, with its own margin, as part of this claim's rule."""
     return next(c for c in CLAIMS if c.key == key).measure(ev)
 
@@ -671,7 +671,7 @@ def lesion_disorganises(ev: Evidence, margin: dict) -> Judged:
        "spread lesioned - intact > 0",
        nulls=(RANDOM,), margin=SPREAD_MARGIN)
 def lesion_scatters_start(ev: Evidence, margin: float) -> Judged:
-    stereotyped = premise("stereotyped-start", ev)
+    stereotyped = judged_as("stereotyped-start", ev)
     spread = ev.paired({i: s.start_spread_body for i, s in enumerate(ev.reaches("lesioned"))},
                        {i: s.start_spread_body for i, s in enumerate(ev.reaches("intact"))})
     scatters = above("reach-start spread, lesioned - intact", spread, digits=1, margin=margin)
@@ -806,7 +806,7 @@ def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
                                    ("normal", f"top_{kind}_speed_fix", w.dip))
                   for kind in ("hand", "eye")}
     criteria = [c for kind, p in recoveries.items()
-                for c in (*premise(f"{kind}-slowdown", ev).criteria,
+                for c in (*judged_as(f"{kind}-slowdown", ev).criteria,
                           above(f"{kind} speed while fixating, late - dip", p,
                                 margin=margin[kind]))]
     return Judged("speed while fixating, late - dip: " + "; ".join(
@@ -821,7 +821,7 @@ def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
        nulls=(RANDOM, SHUFFLED), margin=PROBABILITY_MARGIN)
 def less_movement(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
-    slower = premise("hand-slowdown", ev)
+    slower = judged_as("hand-slowdown", ev)
     away = ev.compare(("normal", "top_away_fix", w.dip), ("normal", "top_away_fix", w.start))
     return Judged(f"{slower.ours}; P(away | fixated), dip - start: {said(away, 3)}", (
         *slower.criteria,

@@ -126,7 +126,7 @@ class Criterion:
     @property
     def region(self) -> str:
         if np.isfinite(self.floor):
-            return f"> {self.low:.3g} (most runs); contradicted below {self.floor:.3g}"
+            return f"> {self.low:.3g} (most runs); reversed below {self.floor:.3g}"
         if np.isfinite(self.low) and np.isfinite(self.high):
             return f"within [{self.low:.3g}, {self.high:.3g}]"
         if np.isfinite(self.low):
@@ -148,12 +148,19 @@ class Criterion:
             return f"replicable from n = {fewest_runs(self.low)}"
         return ""
 
-    def text(self) -> str:
+    def text(self, four: bool = False) -> str:
+        """The criterion in words: its interval, region and verdict (four: the four-way
+        verdict, the margin and the runs its test needs at the margin)."""
         e, power = self.interval, self.power()
         value = (f"{round(e.mean * e.n)} of {e.n} runs" if e.method == COUNT and e.n
                  else f"{e.text(self.digits)}, {e.method}")
-        return (f"{self.what} = {value}; region {self.region}: {self.verdict}"
-                + (f"; {power}" if power else ""))
+        if four and np.isfinite(self.margin):
+            value += f"; margin {self.margin:.{self.digits}g}"
+        if four and np.isfinite(self.runs_needed):
+            power = ", ".join(filter(None, (power, f"{self.runs_needed:.0f} runs for 80% power "
+                                                   "at the margin")))
+        return (f"{self.what} = {value}; region {self.region}: "
+                f"{self.judged if four else self.verdict}" + (f"; {power}" if power else ""))
 
 
 def _of(x: Estimate | Paired) -> tuple[Estimate, Paired | None]:
