@@ -204,8 +204,9 @@ def welch(a, b, level: float = LEVEL) -> Estimate:
 @dataclass(frozen=True)
 class Paired:
     """a - b over the seeds where both exist: the mean difference with its t interval (or the
-    median difference with its order-statistic interval, for mixtures), the effect size d_z (mean difference / s.d. of the differences), the sign count and the
-    smallest difference this n could detect (80% power)."""
+    median difference with its order-statistic interval, for mixtures), the effect size d_z
+    (mean difference / s.d. of the differences), the sign count and the smallest difference
+    this n could detect (80% power; NaN for a median)."""
 
     diff: Estimate
     effect: float
@@ -286,24 +287,28 @@ def holm(p_values) -> np.ndarray:
     return adjusted
 
 
-SIGN_EFFICIENCY = 2 / math.pi      # the sign test's efficiency against the t test (normal data)
 MOST_RUNS = 10_000
 
 
 def runs_needed(e: Estimate, margin: float, equivalence: bool = False, edge: float = 0.0,
-                level: float = LEVEL, power: float = POWER) -> float:
-    """The fewest runs whose test has the given power when the true effect is the margin:
-    for a t interval, from its s.d. ((t_(1-a/2) + t_power) s / sqrt(n) <= margin; for a band,
-    the two one-sided tests at its centre, t_power taken at (1 + power) / 2); for a median,
-    that n over the sign test's efficiency 2/pi; for a Clopper-Pearson share, the exact
-    binomial test of share > edge at a true share of edge + margin. NaN where it cannot be
-    told (no spread, no margin, a point)."""
+                above: bool = True, level: float = LEVEL, power: float = POWER) -> float:
+    """The fewest runs whose test has the given power when the true effect is the margin
+    (beyond the edge, in the direction ``above`` says): for a t interval, from its s.d.
+    ((t_(1-a/2) + t_power) s / sqrt(n) <= margin; for a band, the two one-sided tests at its
+    centre, t_power taken at (1 + power) / 2); for a median, the sign test on the sample
+    shifted so that its median lies the margin beyond the edge (the share of runs then beyond
+    the edge, as a share > 1/2); for a Clopper-Pearson share, the exact binomial test of share
+    > edge at a true share of edge + margin. NaN where it cannot be told (no spread, no
+    margin, a point)."""
     if not (np.isfinite(margin) and margin > 0 and e.n > 1):
         return math.nan
     if e.method.startswith(EXACT_SHARE):
         return _share_runs(edge, min(edge + margin, 1.0), level, power)
-    spread = (float(np.std(e.sample, ddof=1)) if e.sample
-              else e.se * math.sqrt(e.n) if np.isfinite(e.se) else math.nan)
+    if e.sample:
+        centred = np.asarray(e.sample) - np.median(e.sample)
+        beyond = np.mean(centred > -margin) if above else np.mean(centred < margin)
+        return _share_runs(0.5, float(beyond), level, power)
+    spread = e.se * math.sqrt(e.n) if np.isfinite(e.se) else math.nan
     if not np.isfinite(spread):
         return math.nan
     if spread == 0:
@@ -313,7 +318,7 @@ def runs_needed(e: Estimate, margin: float, equivalence: bool = False, edge: flo
         df = n - 1
         if (distributions.t.ppf(0.5 + level / 2, df) + distributions.t.ppf(beta, df)) \
                 * spread / math.sqrt(n) <= margin:
-            return float(math.ceil(n / SIGN_EFFICIENCY) if e.sample else n)
+            return float(n)
     return math.inf
 
 

@@ -121,7 +121,8 @@ class Criterion:
             return math.nan
         band = np.isfinite(self.low) and np.isfinite(self.high)
         return runs_needed(self.interval, self.margin, equivalence=band,
-                           edge=self.low if np.isfinite(self.low) else self.high)
+                           edge=self.low if np.isfinite(self.low) else self.high,
+                           above=bool(np.isfinite(self.low)))
 
     @property
     def region(self) -> str:
@@ -155,7 +156,7 @@ class Criterion:
         value = (f"{round(e.mean * e.n)} of {e.n} runs" if e.method == COUNT and e.n
                  else f"{e.text(self.digits)}, {e.method}")
         if four and np.isfinite(self.margin):
-            value += f"; margin {self.margin:.{self.digits}g}"
+            value += f"; margin {self.margin:.3g}"
         if four and np.isfinite(self.runs_needed):
             power = ", ".join(filter(None, (power, f"{self.runs_needed:.0f} runs for 80% power "
                                                    "at the margin")))

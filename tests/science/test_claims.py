@@ -111,7 +111,8 @@ def joints(shoulder_flexion):
 def test_a_share_of_runs_is_judged_on_its_exact_interval(locked, expected):
     """'All ten runs': most runs replicate (10 of 10: [0.69, 1] > 0.5); 7 of 10 ([0.35, 0.93])
     cannot tell; 6 of 10 ([0.26, 0.88]) lies wholly below the paper's 0.9: reversed."""
-    judged = C.judged_as("shoulder-locked", evidence(normal=joints([2.0] * locked + [50.0] * (RUNS - locked))))
+    runs = joints([2.0] * locked + [50.0] * (RUNS - locked))
+    judged = C.judged_as("shoulder-locked", evidence(normal=runs))
     (criterion,) = judged.criteria
     assert criterion.interval.method == "Clopper-Pearson" and criterion.interval.mean == locked / 10
     assert judged.verdict == expected and "reversed below 0.9" in criterion.text()

@@ -125,7 +125,8 @@ def test_a_t_interval_clipped_to_its_measures_range_says_so():
     assert raw.lo < 0                                    # the study's 0.53 [-0.37, 1.42]
     clipped = bounded(raw)
     assert (clipped.lo, clipped.hi, clipped.mean) == (0.0, raw.hi, raw.mean)
-    assert clipped.method == "t" + CLIPPED and bounded(estimate([1, 1.1, 0.9])) == estimate([1, 1.1, 0.9])
+    assert clipped.method == "t" + CLIPPED
+    assert bounded(estimate([1, 1.1, 0.9])) == estimate([1, 1.1, 0.9])      # nothing to clip
     assert tail(clipped, 0.0, above=True) == tail(raw, 0.0, above=True)   # the same test
 
 
@@ -152,7 +153,9 @@ def test_runs_needed_for_80_percent_power_at_the_margin():
     n = runs_needed(e, margin=1.0)
     s = x.std(ddof=1)
     assert detectable(int(n), s) <= 1.0 < detectable(int(n) - 1, s)
-    assert runs_needed(median(x), 1.0) == math.ceil(n * math.pi / 2)     # the sign test's cost
+    # the sign test: shifted to a median of 1, all ten runs lie above 0 -> a share of 1
+    assert runs_needed(median(x), 10.0) == runs_needed(share([1.0] * 10), 0.5, edge=0.5) == 6
+    assert runs_needed(median(x), 0.1) > runs_needed(median(x), 1.0)
     assert runs_needed(share([1.0] * 10), 0.4, edge=0.5) < runs_needed(share([1.0] * 10), 0.2,
                                                                         edge=0.5)
     assert math.isnan(runs_needed(e, math.nan))
