@@ -182,9 +182,9 @@ class Comparison:
 
     def _claims_by_section(self, opts: list[str]) -> list[str]:
         sections = {section for _, section, _ in CONSTRAINTS}
-        lines = ["Every claim on the four constraints under each optimizer (a claim that "
-                 "compares with the three-layer or random condition reads the base study's "
-                 "runs of it, the same under every optimizer):\n",
+        lines = ["Every claim on the four constraints under each optimizer, raw verdicts (a "
+                 "claim that compares with the three-layer or random condition reads the base "
+                 "study's runs of it, the same under every optimizer):\n",
                  "| claim | " + " | ".join(NAMES[o] for o in opts) + " |",
                  "|---|" + "---|" * len(opts)]
         for i, result in enumerate(self.claims["ga"]):
