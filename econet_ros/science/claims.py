@@ -33,8 +33,8 @@ from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
 from .stats import Paired, bounded, estimate, holm, share
-from .verdicts import (DECIDED, EARLY_AHEAD, INCONCLUSIVE, MOST, REPLICATES, REVERSED, Criterion,
-                       above, below, decide, most_runs, sign_count, within)
+from .verdicts import (DECIDED, EARLY_AHEAD, INCONCLUSIVE, MOST, NOT_JUDGED, REPLICATES,
+                       Criterion, above, below, decide, most_runs, sign_count, within)
 
 SHUFFLES = 20          # time-shuffled nulls per claim
 LEVEL_LIKE = 0.5       # a rule replicating on this share of its shuffled nulls or more cannot
@@ -127,7 +127,8 @@ def claim(key: str, section: str, paper: str, rule: str, *, nulls: tuple[str, ..
 
 
 def judged_as(key: str, ev: Evidence) -> Judged:
-    """Another claim's judgement, with its own margin, as part of this claim's rule."""
+    """A claim's judgement of this evidence with its own margin: a premise inside another
+    claim's rule, or a claim judged on its own."""
     return next(c for c in CLAIMS if c.key == key).measure(ev)
 
 
@@ -162,7 +163,7 @@ class ClaimResult(NamedTuple):
     def adjusted(self) -> str:
         """The verdict after Holm's correction over the family: kept when its adjusted p-value
         is below 0.05, inconclusive otherwise (n/a stays)."""
-        if self.verdict in (INCONCLUSIVE, "n/a"):
+        if self.verdict in (INCONCLUSIVE, NOT_JUDGED):
             return self.verdict
         return self.verdict if self.p_holm < DECIDED else INCONCLUSIVE
 
