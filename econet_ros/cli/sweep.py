@@ -34,9 +34,9 @@ def add_parser(commands) -> None:
     report = verbs.add_parser(
         "report", help="tidy table, paired comparisons, figures and summary of a sweep folder",
         description="Writes DIR/outcomes.csv (one row per run), DIR/comparisons.csv (the "
-                    "spec's paired comparisons: mean difference, 95% bootstrap CI, effect size, "
-                    "sign count), DIR/figures/ and DIR/summary.md, with the sections of the "
-                    "decision rule the spec names (its rule key), if any.")
+                    "spec's paired comparisons: mean difference, 95% Student-t interval, effect "
+                    "size d_z, sign count), DIR/figures/ and DIR/summary.md, with the sections "
+                    "of the decision rule the spec names (its rule key), if any.")
     report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
     report.set_defaults(handler=_report)
 

@@ -20,9 +20,10 @@ from .measures import CHANCE  # noqa: E402
 from .series import Windows, nanmean  # noqa: E402
 from .stats import t_interval  # noqa: E402
 from .study import ConditionData, StudySpec, optimizer_only  # noqa: E402
-from .verdicts import CONTRADICTED, REPLICATES  # noqa: E402
+from .verdicts import ABSENT, REPLICATES, REVERSED  # noqa: E402
 
 NAMES = {"ga": "GA (paper)", "cmaes": "CMA-ES", "es": "ES"}
+GONE = (ABSENT, REVERSED)      # a constraint is absent where its claim is either
 COLORS = {"ga": "tab:blue", "cmaes": "tab:red", "es": "tab:green"}
 
 # Each constraint: its section of the claims table, the claim that says it appears at all, and
@@ -120,16 +121,17 @@ class Comparison:
                  "the same network, task, fitness and evaluation budget (the same trials each "
                  "generation, runs paired by seed) are evolved by CMA-ES and by an OpenAI-style "
                  "evolution strategy (docs/optimizers.md). A constraint that appears under every "
-                 "optimizer comes from the task (body, senses, fitness), not from variation "
-                 "by bit flips and selection of the best 20; one that appears under the GA only "
-                 "is the algorithm's.\n",
+                 "optimizer does not come from variation by bit flips and selection of the best "
+                 "20; it may come from the task (body, senses, fitness) or from the network, "
+                 "which all three share, and this comparison cannot tell those apart. One that "
+                 "appears under the GA only is the algorithm's.\n",
                  f"![Fitness by optimizer]({figures['optimizers_fitness']})\n",
                  *self._fitness_lines(),
                  f"\n![Constraints by optimizer]({figures['optimizers_constraints']})\n",
                  "Does each constraint appear? Its headline claim's verdict under each "
                  "optimizer (appears = replicates: the claim's intervals lie in the regions the "
-                 "paper predicts; absent = contradicted; inconclusive or n/a: cannot tell; "
-                 "rules as in the claims table above):\n",
+                 "paper predicts; absent = absent or reversed; inconclusive or n/a: cannot tell; "
+                 "raw verdicts, rules as in the claims table above):\n",
                  "| constraint | claim | " + " | ".join(NAMES[o] for o in opts) + " |",
                  "|---|---|" + "---|" * len(opts)]
         lines += [f"| {label} | {key} | " + " | ".join(self.verdict(o, key) for o in opts) + " |"
@@ -147,28 +149,32 @@ class Comparison:
             line = f"- {NAMES[opt]}: {evidence.estimate(opt, 'top_fitness', late).text(1)}"
             if opt != "ga":
                 diff = evidence.compare((opt, "top_fitness", late), ("ga", "top_fitness", late))
-                line += f"; {NAMES[opt]} - GA, paired by run: {diff.text(1)}"
+                told = ("ahead of the GA" if diff.diff.lo > 0 else "behind the GA"
+                        if diff.diff.hi < 0 else "not told apart from the GA at this n")
+                line += f"; {NAMES[opt]} - GA, paired by run: {diff.text(1)}: {told}"
             lines.append(line)
         return lines
 
     def _conclusion(self) -> list[str]:
-        """Where each constraint appears (its claim replicates) and where it is absent (is
-        contradicted): the task's when it appears under every optimizer, the algorithm's when
-        it appears under the GA and is absent under every other; otherwise it cannot be told."""
+        """Where each constraint appears (its claim replicates) and where it is absent (absent
+        or reversed): not the algorithm's when it appears under every optimizer, the
+        algorithm's when it appears under the GA and is absent under every other; otherwise it
+        cannot be told."""
         task, algorithm, absent, untold = [], [], [], []
         for label, _, key in CONSTRAINTS:
             verdicts = [self.verdict(opt, key) for opt in self.arms]      # the arms' order
             others = [v for opt, v in zip(self.arms, verdicts) if opt != "ga"]
             if all(v == REPLICATES for v in verdicts):
                 task.append(label)
-            elif self.verdict("ga", key) == REPLICATES and all(v == CONTRADICTED for v in others):
+            elif self.verdict("ga", key) == REPLICATES and all(v in GONE for v in others):
                 algorithm.append(label)
-            elif all(v == CONTRADICTED for v in verdicts):
+            elif all(v in GONE for v in verdicts):
                 absent.append(label)
             else:
                 untold.append(f"{label} (" + ", ".join(
                     f"{NAMES[o]} {v}" for o, v in zip(self.arms, verdicts)) + ")")
-        return [f"- Under every optimizer (the task's): {', '.join(task) or 'none'}.",
+        return [f"- Under every optimizer (not the GA's; the task's or the shared network's): "
+                f"{', '.join(task) or 'none'}.",
                 f"- Under the GA only, absent under the others (the algorithm's): "
                 f"{', '.join(algorithm) or 'none'}.",
                 f"- Absent under every optimizer: {', '.join(absent) or 'none'}.",
@@ -176,9 +182,9 @@ class Comparison:
 
     def _claims_by_section(self, opts: list[str]) -> list[str]:
         sections = {section for _, section, _ in CONSTRAINTS}
-        lines = ["Every claim on the four constraints under each optimizer (a claim that "
-                 "compares with the three-layer or random condition reads the base study's "
-                 "runs of it, the same under every optimizer):\n",
+        lines = ["Every claim on the four constraints under each optimizer, raw verdicts (a "
+                 "claim that compares with the three-layer or random condition reads the base "
+                 "study's runs of it, the same under every optimizer):\n",
                  "| claim | " + " | ".join(NAMES[o] for o in opts) + " |",
                  "|---|" + "---|" * len(opts)]
         for i, result in enumerate(self.claims["ga"]):

@@ -25,13 +25,13 @@ from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
 from .optimizer_study import Comparison
 from .series import Windows, fmt
-from .stats import estimate, median
+from .stats import bounded, estimate, median
 from .study import ConditionData, StudySpec, load_study, optimizer_only, run_codes
 from .sweeps.outcomes import tidy_rows
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.rules import Swept, choose_defaults, rule_of
 from .sweeps.spec import load_sweep
-from .verdicts import VERDICTS
+from .verdicts import FOUR_VERDICTS
 
 
 @dataclass
@@ -252,7 +252,9 @@ def _holding(analysis: Analysis) -> list[str]:
             f"successful trial (window sums) are at most {holding.LIMIT:g}, **brushes** above "
             "that, and **does not reach** without a successful trial (docs/analysis.md, "
             "'Holding, per run'). Outcomes split into holding and brushing runs, so medians "
-            "(95% order-statistic interval) stand beside means (95% t interval).\n",
+            "(95% order-statistic interval) stand beside means (95% t interval, clipped at 0, "
+            "below which none of these outcomes can lie); the claims judge these outcomes on "
+            "medians.\n",
             "| condition | hold / brush / no reach | share holding [95% CI, Clopper-Pearson] | "
             "late separations per successful trial: mean; median | late top-20 fitness: "
             "mean; median | late successful trials: mean; median |", "|---|---|---|---|---|---|",
@@ -268,8 +270,8 @@ def _holding_row(ev: Evidence, condition: str, ratios: dict[str, float]) -> str:
                         for k in (holding.HOLDS, holding.BRUSHES, holding.NO_REACH))
     late = ev.windows.final
 
-    def both(values, digits):
-        return f"{estimate(values).text(digits)}; {median(values).text(digits)}"
+    def both(values, digits):        # every outcome here is a count or a sum: never below 0
+        return f"{bounded(estimate(values)).text(digits)}; {median(values).text(digits)}"
     return (f"| {condition} | {counts} | {holding.holding_share(list(ratios.values())).text()} "
             f"| {both(list(ratios.values()), 2)} | "
             + " | ".join(both(list(ev.per_run(condition, column, late).values()), digits)
@@ -280,44 +282,55 @@ def _holding_row(ev: Evidence, condition: str, ratios: dict[str, float]) -> str:
 def _claims(analysis: Analysis) -> list[str]:
     results = analysis.claims["base"]
     return ["## Claims of the paper's Results section vs our measurements\n",
-            "Each claim: the paper's words, our rule (written before the data it judges; "
-            "docs/analysis.md, 'Verdicts'), our measurement, and the criteria that decide its "
-            "verdict: each an interval over runs (n = runs; a mean or a paired difference: 95% "
-            "Student-t; a share of runs: 95% Clopper-Pearson) against the region the paper "
-            "predicts. A criterion **replicates** when its interval lies inside the region, "
-            "is **contradicted** when it lies wholly outside, and is **inconclusive** when it "
-            "spans the region's edge; a claim replicates when its criteria do, is contradicted "
-            "when one is, and is inconclusive otherwise. Chance is the random condition's "
-            "level, paired by run. Each paired comparison names the smallest difference it "
-            "could detect with its n (80% power, two-sided 5%); a share of runs that must reach "
-            "a bound names how many runs could show it at all. *Added* claims are ones the "
-            "paper makes in passing. The last columns check each rule against two nulls: its "
-            "verdict with random movement in the normal condition's place, and how often it "
-            f"says 'replicates' on {SHUFFLES} time-shuffled copies of the data ('-' where a "
-            "null cannot test the rule: shuffling only tests claims about a time course, and "
-            "the random null only claims that read the normal condition). A rule that "
-            f"replicates on {LEVEL_LIKE:.0%} of its shuffled copies or more cannot tell a time "
-            "course from a level: its verdict is flagged and counted apart. "
-            "Machine-readable: claims.csv beside this report.\n",
+            "Each claim: the paper's words, our rule and its margin, the smallest effect of "
+            "interest (written before the data they judge: docs/preregistrations.md), our "
+            "measurement, and the criteria that decide its verdict: each a 95% interval over "
+            "runs (n = runs; a mean or a paired difference: Student-t; an outcome that splits "
+            "into holding and brushing runs, fitness, successful trials and separations: the "
+            "median paired difference with its order-statistic interval, the sign test; a "
+            "share of runs: Clopper-Pearson) against the region the paper predicts. A "
+            "criterion **replicates** when its interval lies inside the region; is **absent** "
+            "when it lies within the margin either side of no effect (0 for a difference: the "
+            "two one-sided tests at 2.5%); is **reversed** when it lies wholly outside the "
+            "region otherwise (for a band, outside the band; for a share of runs, below the "
+            "share the paper's count predicts); and is **inconclusive** otherwise. A claim "
+            "replicates when its criteria do, is reversed when one is, absent when one is "
+            "absent, inconclusive otherwise. **p** is the p-value of the test the verdict rests "
+            "on, raw and Holm-adjusted over the family of claims; the **Holm** verdict keeps "
+            "the raw one when the adjusted p is below 0.05 and is inconclusive otherwise. "
+            "Chance is the random condition's level, paired by run. Beside each criterion: its "
+            "margin and the runs its test needs for 80% power at the margin. *Added* claims "
+            "are ones the paper makes in passing. The last columns check each rule against two "
+            "nulls: its verdict with random movement in the normal condition's place (a rule "
+            "that replicates there cannot tell learning from chance: **flagged**), and how "
+            f"often it says 'replicates' on {SHUFFLES} time-shuffled copies of the data (at "
+            f"{LEVEL_LIKE:.0%} or more it cannot tell a time course from a level: "
+            "**flagged**); '-' where a null cannot test the rule. Machine-readable: claims.csv "
+            "beside this report.\n",
             _claims_table(results, nulls=True), *_tally(results)]
 
 
 def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
     head = ("| # | section | paper's claim | our rule | our measurement | criteria: interval "
-            "vs region | verdict |")
+            "vs region | verdict | p: raw; Holm | Holm verdict |")
     rows = [head + (" random null | shuffled null |" if nulls else ""),
-            "|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
+            "|---|---|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
-        criteria = "<br>".join(c.text() for c in r.judged.criteria) or "-"
-        flag = " (cannot tell a time course from a level)" if r.flagged else ""
-        row = "| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
-                                               r.ours, criteria))) + f" | **{r.verdict}**{flag} |"
+        criteria = "<br>".join(c.text(four=True) for c in r.judged.criteria) or "-"
+        flags = "".join(f" (flagged: {flag})" for flag in r.flags)
+        row = ("| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
+                                                r.ours, criteria)))
+               + f" | **{r.verdict}**{flags} | {_p(r.p)}; {_p(r.p_holm)} | {r.adjusted} |")
         if nulls and r.nulls is not None:
             shuffled = "-" if r.nulls.shuffled != r.nulls.shuffled else f"{r.nulls.shuffled:.0%}"
             row += f" {r.nulls.random} | {shuffled} |"
         rows.append(row)
     return "\n".join(rows) + "\n"
+
+
+def _p(p: float) -> str:
+    return "-" if not np.isfinite(p) else "<0.001" if p < 0.001 else f"{p:.3f}"
 
 
 def _escaped(text: str) -> str:
@@ -326,17 +339,19 @@ def _escaped(text: str) -> str:
 
 
 def _tally(results: list[ClaimResult]) -> list[str]:
-    """Verdicts counted for the paper's claims apart from the added ones, and the flagged
-    claims (which cannot tell a time course from a level) apart from both."""
-    groups = [(f"{whose}, {label}", [r for r in results
-                                     if r.claim.added == added and r.flagged == flagged])
-              for whose, added in (("the paper's", False), ("added", True))
-              for label, flagged in (("not flagged", False), ("flagged", True))]
-    return ["\nTally:\n", "| claims | " + " | ".join(VERDICTS) + " | all |",
-            "|---|" + "---|" * (len(VERDICTS) + 1),
-            *(f"| {label} | " + " | ".join(str(sum(r.verdict == v for r in group))
-                                           for v in VERDICTS) + f" | {len(group)} |"
-              for label, group in groups), ""]
+    """The four verdicts counted for the paper's claims apart from the added ones, raw and
+    after Holm's correction, and how many of each row are flagged by a null."""
+    rows = []
+    for whose, added in (("the paper's", False), ("added", True)):
+        group = [r for r in results if r.claim.added == added]
+        flagged = sum(bool(r.flags) for r in group)
+        for label, verdict_of in (("raw", lambda r: r.verdict), ("Holm", lambda r: r.adjusted)):
+            rows.append(f"| {whose}, {label} | " + " | ".join(
+                str(sum(verdict_of(r) == v for r in group)) for v in FOUR_VERDICTS)
+                + f" | {len(group)} | {flagged} |")
+    return ["\nTally (flagged: by either null; their verdicts say little about the claim):\n",
+            "| claims | " + " | ".join(FOUR_VERDICTS) + " | all | of them flagged |",
+            "|---|" + "---|" * (len(FOUR_VERDICTS) + 2), *rows, ""]
 
 
 def _windows(analysis: Analysis) -> list[str]:
@@ -366,26 +381,29 @@ def _windows(analysis: Analysis) -> list[str]:
 
 
 CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "criterion",
-                 "estimate", "ci_low", "ci_high", "method", "n", "region", "verdict",
-                 "detectable", "effect_size_dz", "criteria", "null_random_verdict",
-                 "null_shuffled_replicates", "flag", "window_changes"]
+                 "estimate", "ci_low", "ci_high", "method", "n", "region", "margin", "verdict",
+                 "p_raw", "p_holm", "verdict_holm", "runs_for_80_power", "detectable",
+                 "effect_size_dz", "criteria", "null_random_verdict",
+                 "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes"]
 
 
 def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
-    """One claim as a claims.csv row: the decisive criterion's interval (docs/analysis.md,
-    'claims.csv'), every criterion in words, the nulls, the flag and the windows that change
-    the verdict (``moved``: window label -> verdict there)."""
+    """One claim as a claims.csv row: the decisive criterion's interval and margin
+    (docs/analysis.md, 'claims.csv'), the verdict raw and after Holm's correction with their
+    p-values, the runs needed at the margin, every criterion in words, the nulls, both flags
+    and the windows that change the verdict (``moved``: window label -> verdict there)."""
     c, nan = r.judged.decisive, float("nan")
     e = c.interval if c else None
     return dict(zip(CLAIM_COLUMNS, (
         number, r.claim.key, r.claim.section, r.claim.added, r.claim.paper, r.claim.rule,
         r.ours, c.what if c else "",
-        *((e.mean, e.lo, e.hi, e.method, e.n, c.region) if c else (nan, nan, nan, "", 0, "")),
-        r.verdict, c.detectable if c else nan,
-        c.comparison.effect if c and c.comparison else nan,
-        "; ".join(x.text() for x in r.judged.criteria),
+        *((e.mean, e.lo, e.hi, e.method, e.n, c.region, c.margin) if c
+          else (nan, nan, nan, "", 0, "", nan)),
+        r.verdict, r.p, r.p_holm, r.adjusted, c.runs_needed if c else nan,
+        c.detectable if c else nan, c.comparison.effect if c and c.comparison else nan,
+        "; ".join(x.text(four=True) for x in r.judged.criteria),
         r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
-        "cannot tell a time course from a level" if r.flagged else "",
+        r.chance_flagged, r.flagged,
         "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict))))
 
 
@@ -458,12 +476,12 @@ def _lesion_table(lesion: list[dict]) -> str:
     rows = [f"Final-generation top-20 econets of {len(lesion)} normal runs, {LESION_TRIALS} fresh "
             "trials each: intact, with the proprioceptive inputs severed (the paper's lesion), "
             "and with the visual inputs severed (a control: does any lesion do the same?); "
-            "mean [95% t interval] over runs:\n",
+            "mean [95% t interval, clipped at 0] over runs:\n",
             "| measure | intact | proprioception severed | vision severed |",
             "|---|---|---|---|"]
     for attr, label, digits in LESION_ROWS:
-        cells = [estimate([getattr(r[kind], attr) for r in lesion]).text(digits)
-                 for kind in LESIONS]
+        cells = [bounded(estimate([getattr(r[kind], attr) for r in lesion])).text(digits)
+                 for kind in LESIONS]         # every lesion measure is 0 or more
         rows.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(rows) + "\n"
 

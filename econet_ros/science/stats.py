@@ -4,8 +4,9 @@ the paper's n = 10 (docs/analysis.md, "Statistics"):
 - a mean: the Student-t interval (a percentile bootstrap covers only about 90% for a nominal
   95% at n = 10; tests/science/test_stats.py measures both);
 - a share of runs: the exact Clopper-Pearson interval (0 of 10 is [0, 0.31], not [0, 0]);
-- a median, beside the mean where outcomes are bimodal (runs that hold against runs that
-  brush): the distribution-free interval between two order statistics;
+- a median, beside or instead of the mean where outcomes are mixtures (runs that hold against
+  runs that brush): the distribution-free interval between two order statistics (the sign
+  test's interval: it keeps its coverage on any mixture, where the t interval does not);
 - two independent sets: the Welch t interval of the difference of their means;
 - two shares of independent sets: Newcombe's hybrid-score interval of their difference;
 - a logistic regression of a per-run yes/no outcome (holding) on run settings: Firth's
@@ -14,10 +15,15 @@ the paper's n = 10 (docs/analysis.md, "Statistics"):
   mean difference, the effect size d_z, the sign count, and the smallest difference the
   comparison could detect with its n (80% power, two-sided 5%).
 
-Every Estimate names the method of its interval. ROS-free; SciPy's t, beta and binomial
+Every Estimate names the method of its interval, and tail() gives the p-value that goes with
+it (the t test, the exact binomial test, the sign test), so that a verdict read from an
+interval and one read from a p-value agree; holm() adjusts a family of p-values. An interval
+may be clipped to the range of its measure (bounded()). ROS-free; SciPy's t, beta and binomial
 distributions."""
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -48,6 +54,8 @@ class Estimate:
     hi: float
     n: int
     method: str = T_MEAN
+    se: float = math.nan          # the t interval's standard error (its test needs it)
+    sample: tuple = ()            # the values of an order-statistic interval (its sign test)
 
     def text(self, digits: int = 2) -> str:
         if not self.n:
@@ -76,7 +84,22 @@ def estimate(values) -> Estimate:
     if not len(v):
         return NOT_MEASURED
     lo, hi = t_interval(v)
-    return Estimate(float(v.mean()), lo, hi, len(v))
+    se = float(v.std(ddof=1) / math.sqrt(len(v))) if len(v) > 1 else math.nan
+    return Estimate(float(v.mean()), lo, hi, len(v), se=se)
+
+
+CLIPPED = ", clipped to the measure's range"
+
+
+def bounded(e: Estimate, low: float = 0.0, high: float = math.inf) -> Estimate:
+    """The estimate with its interval clipped to the range its measure can take (a count of
+    separations per success cannot fall below 0): the method says so when a bound bites. The
+    clipped interval covers at least as often as the unclipped one (the true value lies in the
+    range); its test (tail) is the unclipped one's."""
+    lo, hi = max(e.lo, low), min(e.hi, high)
+    if (lo, hi) == (e.lo, e.hi) or not np.isfinite(e.lo):
+        return e
+    return dataclasses.replace(e, lo=lo, hi=hi, method=e.method + CLIPPED)
 
 
 def share(flags) -> Estimate:
@@ -134,11 +157,20 @@ def median(values) -> Estimate:
     n = len(v)
     if not n:
         return Estimate(math.nan, math.nan, math.nan, 0, ORDER_STATISTICS)
+    r = median_rank(n)
+    lo, hi = (v[r - 1], v[n - r]) if r else (math.nan, math.nan)
+    return Estimate(float(np.median(v)), float(lo), float(hi), n, ORDER_STATISTICS,
+                    sample=tuple(float(x) for x in v))
+
+
+@functools.lru_cache(maxsize=None)
+def median_rank(n: int, level: float = LEVEL) -> int:
+    """The largest rank r whose order statistics x(r), x(n+1-r) cover the median with at least
+    the level's probability (0 when none does: below n = 6 at 95%)."""
     ranks = [r for r in range(1, n // 2 + 1)
              if distributions.binom.cdf(n - r, n, 0.5) - distributions.binom.cdf(r - 1, n, 0.5)
-             >= LEVEL]
-    lo, hi = (v[ranks[-1] - 1], v[n - ranks[-1]]) if ranks else (math.nan, math.nan)
-    return Estimate(float(np.median(v)), float(lo), float(hi), n, ORDER_STATISTICS)
+             >= level]
+    return ranks[-1] if ranks else 0
 
 
 def detectable(n: int, spread: float, level: float = LEVEL, power: float = POWER) -> float:
@@ -171,9 +203,10 @@ def welch(a, b, level: float = LEVEL) -> Estimate:
 
 @dataclass(frozen=True)
 class Paired:
-    """a - b over the seeds where both exist: the mean difference with its t interval, the
-    effect size d_z (mean difference / s.d. of the differences), the sign count and the
-    smallest difference this n could detect (80% power)."""
+    """a - b over the seeds where both exist: the mean difference with its t interval (or the
+    median difference with its order-statistic interval, for mixtures), the effect size d_z
+    (mean difference / s.d. of the differences), the sign count and the smallest difference
+    this n could detect (80% power; NaN for a median)."""
 
     diff: Estimate
     effect: float
@@ -187,19 +220,116 @@ class Paired:
 
     def text(self, digits: int = 2) -> str:
         effect = "n/a" if not np.isfinite(self.effect) else f"{self.effect:+.2f}"
-        return (f"{self.diff.text(digits)}, d_z {effect}, a > b in {self.above} of "
+        centre = "median " if self.diff.method == ORDER_STATISTICS else ""
+        return (f"{centre}{self.diff.text(digits)}, d_z {effect}, a > b in {self.above} of "
                 f"{self.n}")
 
 
-def paired(a, b) -> Paired:
-    """Compare two outcome arrays aligned by seed (NaN where a run is missing)."""
+def paired(a, b, mixture: bool = False) -> Paired:
+    """Compare two outcome arrays aligned by seed (NaN where a run is missing): the mean
+    difference with its t interval, or for outcomes that are mixtures (runs that hold against
+    runs that brush) the median difference with its order-statistic interval (the sign test),
+    whose coverage does not depend on the shape of the distribution."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     both = np.isfinite(a) & np.isfinite(b)
     d = a[both] - b[both]
     spread = d.std(ddof=1) if len(d) > 1 else math.nan
     effect = float(d.mean() / spread) if len(d) > 1 and spread > 0 else math.nan
-    return Paired(estimate(d), effect, int((d > 0).sum()), int((d < 0).sum()),
-                  detectable(len(d), spread))
+    centre = median(d) if mixture and len(d) else estimate(d)
+    return Paired(centre, effect, int((d > 0).sum()), int((d < 0).sum()),
+                  detectable(len(d), spread) if not mixture else math.nan)
+
+
+def tail(e: Estimate, bound: float, above: bool) -> float:
+    """The p-value that the true value is above (above=False: below) bound, on the two-sided
+    scale (twice the one-sided p, at most 1): below 0.05 exactly when the estimate's 95%
+    interval lies wholly on that side. The t test for a t interval, the exact binomial test for
+    a Clopper-Pearson share, the sign test for a median's order statistics; others from the
+    interval's half-width read as normal."""
+    if not e.n or not np.isfinite(e.mean) or not np.isfinite(bound):
+        return math.nan
+    sign = 1.0 if above else -1.0
+    if e.method.startswith(EXACT_SHARE):
+        k = round(e.mean * e.n)
+        one = (distributions.binom.sf(k - 1, e.n, bound) if above
+               else distributions.binom.cdf(k, e.n, bound))
+    elif e.method.startswith(ORDER_STATISTICS) and e.sample:
+        v = np.asarray(e.sample)
+        beyond, n = int(np.sum(sign * (v - bound) > 0)), int(np.sum(v != bound))
+        one = distributions.binom.sf(beyond - 1, n, 0.5) if n else 1.0
+    else:
+        se, df = e.se, e.n - 1
+        if not np.isfinite(se):
+            z = distributions.norm.ppf(0.5 + LEVEL / 2)
+            se, df = (e.hi - e.lo) / (2 * z), math.inf
+        if not np.isfinite(se) or df < 1:
+            return math.nan
+        if se == 0:
+            return 0.0 if sign * (e.mean - bound) > 0 else 1.0
+        one = distributions.t.sf(sign * (e.mean - bound) / se, df)
+    return float(min(1.0, 2 * one))
+
+
+def holm(p_values) -> np.ndarray:
+    """Holm's step-down adjustment of a family of p-values (NaN left out of the family and
+    kept NaN): the i-th smallest becomes max over j <= i of (m - j + 1) p_(j), at most 1. It
+    holds the chance of any false rejection in the family at the level under any dependence
+    between the tests."""
+    p = np.asarray(p_values, dtype=float)
+    adjusted = np.full(p.shape, np.nan)
+    kept = np.flatnonzero(np.isfinite(p))
+    order = kept[np.argsort(p[kept], kind="stable")]
+    m = len(order)
+    running = 0.0
+    for j, i in enumerate(order):
+        running = max(running, min(1.0, (m - j) * p[i]))
+        adjusted[i] = running
+    return adjusted
+
+
+MOST_RUNS = 10_000
+
+
+def runs_needed(e: Estimate, margin: float, equivalence: bool = False, edge: float = 0.0,
+                above: bool = True, level: float = LEVEL, power: float = POWER) -> float:
+    """The fewest runs whose test has the given power when the true effect is the margin
+    (beyond the edge, in the direction ``above`` says): for a t interval, from its s.d.
+    ((t_(1-a/2) + t_power) s / sqrt(n) <= margin; for a band, the two one-sided tests at its
+    centre, t_power taken at (1 + power) / 2); for a median, the sign test on the sample
+    shifted so that its median lies the margin beyond the edge (the share of runs then beyond
+    the edge, as a share > 1/2); for a Clopper-Pearson share, the exact binomial test of share
+    > edge at a true share of edge + margin. NaN where it cannot be told (no spread, no
+    margin, a point)."""
+    if not (np.isfinite(margin) and margin > 0 and e.n > 1):
+        return math.nan
+    if e.method.startswith(EXACT_SHARE):
+        return _share_runs(edge, min(edge + margin, 1.0), level, power)
+    if e.sample:
+        centred = np.asarray(e.sample) - np.median(e.sample)
+        beyond = np.mean(centred > -margin) if above else np.mean(centred < margin)
+        return _share_runs(0.5, float(beyond), level, power)
+    spread = e.se * math.sqrt(e.n) if np.isfinite(e.se) else math.nan
+    if not np.isfinite(spread):
+        return math.nan
+    if spread == 0:
+        return 2.0
+    beta = (1 + power) / 2 if equivalence else power
+    for n in range(2, MOST_RUNS):
+        df = n - 1
+        if (distributions.t.ppf(0.5 + level / 2, df) + distributions.t.ppf(beta, df)) \
+                * spread / math.sqrt(n) <= margin:
+            return float(n)
+    return math.inf
+
+
+def _share_runs(edge: float, true: float, level: float, power: float) -> float:
+    if true <= edge:
+        return math.inf
+    for n in range(1, MOST_RUNS):
+        k = int(distributions.binom.isf((1 - level) / 2, n, edge)) + 1   # P(X >= k) < a/2
+        if distributions.binom.sf(k - 1, n, true) >= power:
+            return float(n)
+    return math.inf
 
 
 @dataclass(frozen=True)

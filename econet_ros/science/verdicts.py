@@ -1,10 +1,15 @@
-"""Three verdicts from intervals (docs/analysis.md, "Verdicts"). A criterion is an interval (an
+"""Verdicts from intervals (docs/analysis.md, "Verdicts"). A criterion is an interval (an
 Estimate: a mean, a paired difference, a share of runs) held against the region the paper
-predicts for it: it replicates when the interval lies inside the region, is contradicted when
-it lies wholly outside, and is inconclusive when it overlaps the region's edge. A claim with
-several criteria replicates when all of them do (or as many as it needs), is contradicted when
-too many are for that, and is inconclusive otherwise; "n/a" when something was not measured.
-Every claim states its criteria and nothing else decides its verdict. ROS-free."""
+predicts for it. Three verdicts (the sweeps' pre-registered rules read these): it replicates
+when the interval lies inside the region, is contradicted when it lies wholly outside, and is
+inconclusive when it overlaps the region's edge. Four verdicts (the claims'), with the claim's
+smallest effect of interest (its margin): replicates; absent when the interval lies within the
+margin of a region edge that means "no effect" (the two one-sided tests); reversed when it lies
+wholly outside the region otherwise; inconclusive. A claim with several criteria replicates
+when all of them do (or as many as it needs), is reversed (or absent) when too many are for
+that, and is inconclusive otherwise; "n/a" when something was not measured. Each verdict has
+the p-value of the test it rests on, for the family's correction (stats.holm). Every claim
+states its criteria and nothing else decides its verdict. ROS-free."""
 from __future__ import annotations
 
 import math
@@ -13,11 +18,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stats import EXACT_SHARE, Estimate, Paired, fewest_runs
+from .stats import EXACT_SHARE, Estimate, Paired, fewest_runs, runs_needed, tail
 
 REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED = ("replicates", "contradicted",
                                                        "inconclusive", "n/a")
 VERDICTS = (REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED)
+ABSENT, REVERSED = "absent", "reversed"
+FOUR_VERDICTS = (REPLICATES, ABSENT, REVERSED, INCONCLUSIVE, NOT_JUDGED)
+DECIDED = 0.05         # a verdict other than inconclusive rests on a test with p below this
 COUNT = "count"        # the method of a point count (the sign count of a paired comparison)
 MOST = 0.5             # "most runs": a share of runs above one half
 EARLY_AHEAD = 0.8      # "from virtually the start" (Figure 3): ahead early in this share of pairs
@@ -38,6 +46,8 @@ class Criterion:
     comparison: Paired | None = None      # when the interval is a paired difference
     digits: int = 2
     floor: float = math.nan      # set: contradicted only when the interval lies wholly below it
+    margin: float = math.nan     # the smallest effect of interest, in the interval's units
+    null: bool = False           # the region's edge means "no effect" (0, or a share of 1/2)
 
     @property
     def verdict(self) -> str:
@@ -59,9 +69,65 @@ class Criterion:
         return CONTRADICTED if outside and self.contradicts else INCONCLUSIVE
 
     @property
+    def judged(self) -> str:
+        """The four-way verdict: replicates, absent, reversed, inconclusive (or n/a)."""
+        verdict = self.verdict
+        if verdict in (REPLICATES, NOT_JUDGED):
+            return verdict
+        if self.absent_band is not None:
+            low, high = self.absent_band
+            if low <= self.interval.lo and self.interval.hi <= high:
+                return ABSENT
+        return REVERSED if verdict == CONTRADICTED else INCONCLUSIVE
+
+    @property
+    def absent_band(self) -> tuple[float, float] | None:
+        """[edge - margin, edge + margin] around a one-sided region's "no effect" edge; None
+        where no effect cannot be told (a band, a threshold, a count, no margin)."""
+        one_sided = np.isfinite(self.low) != np.isfinite(self.high)
+        if not (self.null and one_sided and self.contradicts and np.isfinite(self.margin)):
+            return None
+        edge = self.low if np.isfinite(self.low) else self.high
+        return edge - self.margin, edge + self.margin
+
+    def p(self, verdict: str) -> float:
+        """The p-value (two-sided scale: below 0.05 exactly when the 95% interval decides) of
+        the test behind a verdict: replicates (inside the region), reversed (outside it),
+        absent (within the margin of no effect); 1 where the criterion cannot reach it."""
+        e, low, high = self.interval, self.low, self.high
+        if not e.n or not np.isfinite(e.mean):
+            return math.nan
+        if e.method == COUNT:
+            return 0.0 if verdict == self.judged else 1.0
+        if verdict == REPLICATES:
+            return max(tail(e, low, above=True) if np.isfinite(low) else 0.0,
+                       tail(e, high, above=False) if np.isfinite(high) else 0.0)
+        if verdict == ABSENT:
+            band = self.absent_band
+            return 1.0 if band is None else max(tail(e, band[0], above=True),
+                                                tail(e, band[1], above=False))
+        if not self.contradicts:
+            return 1.0
+        if np.isfinite(self.floor):
+            return tail(e, self.floor, above=False)
+        return min(tail(e, low, above=False) if np.isfinite(low) else 1.0,
+                   tail(e, high, above=True) if np.isfinite(high) else 1.0)
+
+    @property
+    def runs_needed(self) -> float:
+        """Runs for 80% power when the true effect is the margin: beyond the region's edge by
+        the margin (inside a band: the band's half-width around its centre)."""
+        if not np.isfinite(self.margin):
+            return math.nan
+        band = np.isfinite(self.low) and np.isfinite(self.high)
+        return runs_needed(self.interval, self.margin, equivalence=band,
+                           edge=self.low if np.isfinite(self.low) else self.high,
+                           above=bool(np.isfinite(self.low)))
+
+    @property
     def region(self) -> str:
         if np.isfinite(self.floor):
-            return f"> {self.low:.3g} (most runs); contradicted below {self.floor:.3g}"
+            return f"> {self.low:.3g} (most runs); reversed below {self.floor:.3g}"
         if np.isfinite(self.low) and np.isfinite(self.high):
             return f"within [{self.low:.3g}, {self.high:.3g}]"
         if np.isfinite(self.low):
@@ -83,12 +149,19 @@ class Criterion:
             return f"replicable from n = {fewest_runs(self.low)}"
         return ""
 
-    def text(self) -> str:
+    def text(self, four: bool = False) -> str:
+        """The criterion in words: its interval, region and verdict (four: the four-way
+        verdict, the margin and the runs its test needs at the margin)."""
         e, power = self.interval, self.power()
         value = (f"{round(e.mean * e.n)} of {e.n} runs" if e.method == COUNT and e.n
                  else f"{e.text(self.digits)}, {e.method}")
-        return (f"{self.what} = {value}; region {self.region}: {self.verdict}"
-                + (f"; {power}" if power else ""))
+        if four and np.isfinite(self.margin):
+            value += f"; margin {self.margin:.3g}"
+        if four and np.isfinite(self.runs_needed):
+            power = ", ".join(filter(None, (power, f"{self.runs_needed:.0f} runs for 80% power "
+                                                   "at the margin")))
+        return (f"{self.what} = {value}; region {self.region}: "
+                f"{self.judged if four else self.verdict}" + (f"; {power}" if power else ""))
 
 
 def _of(x: Estimate | Paired) -> tuple[Estimate, Paired | None]:
@@ -96,36 +169,38 @@ def _of(x: Estimate | Paired) -> tuple[Estimate, Paired | None]:
 
 
 def above(what: str, x: Estimate | Paired, bound: float = 0.0, *, closed: bool = False,
-          contradicts: bool = True, digits: int = 2) -> Criterion:
-    """The paper predicts x > bound (closed: >=)."""
+          contradicts: bool = True, digits: int = 2, margin: float = math.nan) -> Criterion:
+    """The paper predicts x > bound (closed: >=); a bound of 0 means no effect (a difference),
+    any other is a threshold."""
     interval, comparison = _of(x)
     return Criterion(what, interval, low=bound, closed=closed, contradicts=contradicts,
-                     comparison=comparison, digits=digits)
+                     comparison=comparison, digits=digits, margin=margin,
+                     null=bound == 0 and comparison is not None)
 
 
 def below(what: str, x: Estimate | Paired, bound: float = 0.0, *, closed: bool = False,
-          digits: int = 2) -> Criterion:
-    """The paper predicts x < bound (closed: <=)."""
+          digits: int = 2, margin: float = math.nan) -> Criterion:
+    """The paper predicts x < bound (closed: <=); as above()."""
     interval, comparison = _of(x)
     return Criterion(what, interval, high=bound, closed=closed, comparison=comparison,
-                     digits=digits)
+                     digits=digits, margin=margin, null=bound == 0 and comparison is not None)
 
 
 def within(what: str, x: Estimate | Paired, low: float, high: float,
            digits: int = 2) -> Criterion:
-    """The paper predicts low <= x <= high."""
+    """The paper predicts low <= x <= high: the band is the margin (its half-width)."""
     interval, comparison = _of(x)
     return Criterion(what, interval, low, high, closed=True, comparison=comparison,
-                     digits=digits)
+                     digits=digits, margin=(high - low) / 2)
 
 
-def most_runs(what: str, runs: Estimate, paper: float) -> Criterion:
+def most_runs(what: str, runs: Estimate, paper: float, margin: float = math.nan) -> Criterion:
     """A share of runs for what the paper reports as a count of its ten runs (all ten, 9 or 8
     of 10): replicates when most runs do it (the exact interval above 1/2), is contradicted
     when the interval lies wholly below the share the paper's count predicts, inconclusive
     otherwise. Held to the paper's share itself, such a criterion could not replicate at the
     paper's n = 10 (10 of 10 gives [0.69, 1]; a share >= 0.9 needs 36 runs of 36)."""
-    return Criterion(what, runs, low=MOST, floor=paper)
+    return Criterion(what, runs, low=MOST, floor=paper, margin=margin)
 
 
 def sign_count(p: Paired) -> Estimate:
@@ -177,3 +252,33 @@ def combine(verdicts: Sequence[str], needed: int | None = None) -> str:
     if sum(v == CONTRADICTED for v in verdicts) > len(verdicts) - needed:
         return CONTRADICTED
     return NOT_JUDGED if NOT_JUDGED in verdicts else INCONCLUSIVE
+
+
+def decide(criteria: Sequence[Criterion], needed: int | None = None) -> tuple[str, float]:
+    """A claim's four-way verdict from its criteria's, and the p-value of the test it rests on:
+    replicates when at least ``needed`` replicate (default: all; p the needed-th smallest of
+    their p-values, the intersection-union test), reversed when more are reversed than may
+    fail, absent when more are absent or reversed than may fail (p the next one past those that
+    may fail), n/a when none of these and one was not measured, inconclusive otherwise (p the
+    smallest of the three, so that the family's correction counts every claim); n/a without
+    criteria."""
+    if not criteria:
+        return NOT_JUDGED, math.nan
+    needed = len(criteria) if needed is None else needed
+    spare = len(criteria) - needed
+    verdicts = [c.judged for c in criteria]
+
+    def nth(values: list[float], k: int) -> float:
+        return sorted(values)[k] if len(values) > k else 1.0
+    p = {REPLICATES: nth([c.p(REPLICATES) for c in criteria], needed - 1),
+         REVERSED: nth([c.p(REVERSED) for c in criteria], spare),
+         ABSENT: nth([min(c.p(ABSENT), c.p(REVERSED)) for c in criteria], spare)}
+    if verdicts.count(REPLICATES) >= needed:
+        return REPLICATES, p[REPLICATES]
+    if verdicts.count(REVERSED) > spare:
+        return REVERSED, p[REVERSED]
+    if verdicts.count(REVERSED) + verdicts.count(ABSENT) > spare:
+        return ABSENT, p[ABSENT]
+    if NOT_JUDGED in verdicts:
+        return NOT_JUDGED, math.nan
+    return INCONCLUSIVE, min(p.values())

@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from econet_ros.config import Config
 from econet_ros.science import claims as C
 from econet_ros.science.evidence import Evidence, first_passage
 from econet_ros.science.measures import ReachSummary
@@ -26,19 +27,30 @@ def evidence(**conditions) -> Evidence:
     return Evidence(conditions, [], Windows(G))
 
 
+@pytest.fixture(autouse=True)
+def paper_settings(monkeypatch):
+    """Constructed conditions have no run folders: their settings are the defaults (20 trials
+    x 100 cycles, so the fitness margin is 5% of 2000)."""
+    monkeypatch.setattr(Evidence, "run_config", lambda self, condition: Config())
+
+
 def noisy(base, scale, seed):
     return base + np.random.default_rng(seed).normal(0, scale, (RUNS, G))
 
 
-@pytest.mark.parametrize("shift, expected", [(5.0, "replicates"), (-5.0, "contradicted")])
+@pytest.mark.parametrize("shift, expected", [(150.0, "replicates"), (-150.0, "reversed"),
+                                             (-5.0, "absent")])
 def test_fitness_claim_follows_the_paired_interval(shift, expected):
+    """Fitness is judged on the median paired difference; a difference of 5 lies within the
+    margin (5% of the 2000 an econet can score): no effect of interest."""
     three = noisy(100.0, 3.0, 1)
     ev = evidence(normal=condition("normal", top_fitness=three + shift),
                   **{"three-layer": condition("three-layer", top_fitness=three)})
-    judged = C.fitness_ahead(ev)
+    judged = C.judged_as("fitness", ev)
     assert judged.verdict == expected
     late, early, ahead = judged.criteria
-    assert late.interval.mean == pytest.approx(shift) and late.interval.method == "t"
+    assert late.interval.mean == pytest.approx(shift)
+    assert late.interval.method == "order statistics" and late.margin == 100
     assert late.comparison.above == (RUNS if shift > 0 else 0)
     assert judged.decisive is late          # the first criterion with the claim's verdict
 
@@ -47,36 +59,43 @@ def test_a_difference_inside_the_noise_is_inconclusive():
     rng = np.random.default_rng(3)
     three = noisy(100.0, 3.0, 4)
     late = np.full((RUNS, G), 5.0)                         # clearly ahead early ...
-    late[:, -4:] = rng.normal(0.5, 20.0, (RUNS, 1))        # ... late: tiny mean, huge spread
+    late[:, -4:] = rng.normal(0.5, 200.0, (RUNS, 1))       # ... late: tiny mean, huge spread
     ev = evidence(normal=condition("normal", top_fitness=three + late),
                   **{"three-layer": condition("three-layer", top_fitness=three)})
-    judged = C.fitness_ahead(ev)
+    judged = C.judged_as("fitness", ev)
     assert judged.criteria[0].interval.lo < 0 < judged.criteria[0].interval.hi
     assert [c.verdict for c in judged.criteria] == ["inconclusive", "replicates", "replicates"]
     assert judged.verdict == "inconclusive" and judged.decisive is judged.criteria[0]
 
 
 def test_ahead_early_in_too_few_runs_withholds_replication_without_contradicting():
+    """Ahead early in 7 of 10 runs: the sign test cannot show the early median above 0 (it
+    needs 9 of 10), and the count withholds 'replicates' too, contradicting nothing."""
     three = noisy(100.0, 1.0, 7)
-    shift = np.where(np.arange(RUNS) < 7, 10.0, -1.0)[:, None]      # ahead in 7 of 10
+    shift = np.full((RUNS, G), 300.0)
+    shift[7:, :4] = -1.0                                       # ahead early in 7 of 10
     ev = evidence(normal=condition("normal", top_fitness=three + shift),
                   **{"three-layer": condition("three-layer", top_fitness=three)})
-    judged = C.fitness_ahead(ev)
+    judged = C.judged_as("fitness", ev)
     late, early, ahead = judged.criteria
-    assert late.verdict == early.verdict == "replicates"
-    assert ahead.interval.mean == 0.7 and ahead.verdict == "inconclusive"
+    assert late.judged == "replicates" and early.judged == "inconclusive"
+    assert ahead.interval.mean == 0.7 and ahead.judged == "inconclusive"
     assert judged.verdict == "inconclusive"
 
 
 def test_chance_is_the_random_conditions_level_not_one_half():
     """Non-fixated approach at 0.52 is above 0.5 but below random movement's 0.53 in this
-    geometry: not above chance."""
+    geometry: not above chance, and less than the margin (0.05) below it: absent. Below
+    random's 0.6 by more than the margin, it is reversed."""
     normal = condition("normal", top_approach_nofix=noisy(np.full(G, 0.52), 0.003, 8))
     random = condition("random", top_approach_nofix=noisy(np.full(G, 0.53), 0.003, 9))
-    judged = C.unfixated_above_chance(evidence(normal=normal, random=random))
-    assert judged.criteria[0].interval.hi < 0 and judged.verdict == "contradicted"
+    judged = C.judged_as("nofix-above-chance", evidence(normal=normal, random=random))
+    assert judged.criteria[0].interval.hi < 0 and judged.verdict == "absent"
+    lower = condition("random", top_approach_nofix=noisy(np.full(G, 0.60), 0.003, 9))
+    assert C.judged_as("nofix-above-chance", evidence(normal=normal, random=lower)).verdict \
+        == "reversed"
     higher = condition("random", top_approach_nofix=noisy(np.full(G, 0.50), 0.003, 9))
-    assert C.unfixated_above_chance(evidence(normal=normal, random=higher)).verdict == \
+    assert C.judged_as("nofix-above-chance", evidence(normal=normal, random=higher)).verdict == \
         "replicates"
 
 
@@ -88,14 +107,15 @@ def joints(shoulder_flexion):
 
 
 @pytest.mark.parametrize("locked, expected", [(10, "replicates"), (7, "inconclusive"),
-                                              (6, "contradicted")])
+                                              (6, "reversed")])
 def test_a_share_of_runs_is_judged_on_its_exact_interval(locked, expected):
     """'All ten runs': most runs replicate (10 of 10: [0.69, 1] > 0.5); 7 of 10 ([0.35, 0.93])
-    cannot tell; 6 of 10 ([0.26, 0.88]) lies wholly below the paper's 0.9 and contradicts it."""
-    judged = C.shoulder_locked(evidence(normal=joints([2.0] * locked + [50.0] * (RUNS - locked))))
+    cannot tell; 6 of 10 ([0.26, 0.88]) lies wholly below the paper's 0.9: reversed."""
+    runs = joints([2.0] * locked + [50.0] * (RUNS - locked))
+    judged = C.judged_as("shoulder-locked", evidence(normal=runs))
     (criterion,) = judged.criteria
     assert criterion.interval.method == "Clopper-Pearson" and criterion.interval.mean == locked / 10
-    assert judged.verdict == expected and "contradicted below 0.9" in criterion.text()
+    assert judged.verdict == expected and "reversed below 0.9" in criterion.text()
 
 
 def reaches(**changes):
@@ -114,12 +134,15 @@ def test_lesion_disorganised_needs_three_of_four_measures_worse():
                                      turning=10 + turning_shift + i % 2,
                                      success_rate=0.8 + success_shift + 0.01 * (i % 3))}
                 for i in range(RUNS)]
-    three = C.lesion_disorganises(Evidence({}, lesion(+5, +0.1), Windows(G)))
-    assert [c.verdict for c in three.criteria] == ["replicates", "replicates", "replicates",
-                                                   "contradicted"]
+    three = C.judged_as("lesion-disorganised", Evidence({}, lesion(+5, +0.1), Windows(G)))
+    assert [c.judged for c in three.criteria] == ["replicates", "replicates", "replicates",
+                                                  "reversed"]
     assert three.verdict == "replicates"
-    two = C.lesion_disorganises(Evidence({}, lesion(-5, +0.1), Windows(G)))
-    assert two.verdict == "contradicted"          # two contradicted: three of four cannot
+    two = C.judged_as("lesion-disorganised", Evidence({}, lesion(-20, +0.1), Windows(G)))
+    assert two.verdict == "reversed"              # two reversed: three of four cannot
+    small = C.judged_as("lesion-disorganised", Evidence({}, lesion(-5, +0.1), Windows(G)))
+    assert [c.judged for c in small.criteria][2:] == ["absent", "reversed"]
+    assert small.verdict == "absent"              # turning less by 5 deg: within 9, no effect
 
 
 def test_first_passage_is_the_first_generation_that_holds():
@@ -133,27 +156,28 @@ def test_lock_speed_reads_first_passage_not_staying_locked():
     flexion[30:33] = 50.0             # ... with a wobble later, which the old rule punished
     normal = condition("normal", all_shoulder_flexion=flexion, all_shoulder_angle=175.0,
                        all_elbow_flexion=50.0, all_elbow_angle=90.0, all_elbow_moving=0.5)
-    judged = C.lock_speed(evidence(normal=normal))
+    judged = C.judged_as("lock-speed", evidence(normal=normal))
     # smoothed over G/20 = 2 generations, flexion is first dominated at generation 7
     assert judged.criteria[1].interval.mean == 7 and judged.verdict == "replicates"
 
 
 def test_no_run_locking_contradicts_lock_speed_without_a_speed_to_judge():
-    judged = C.lock_speed(evidence(normal=joints([50.0] * RUNS)))
+    judged = C.judged_as("lock-speed", evidence(normal=joints([50.0] * RUNS)))
     (locks,) = judged.criteria                      # 0 of 10: [0, 0.31], below 0.5
-    assert locks.interval.hi < 0.5 and judged.verdict == "contradicted"
+    assert locks.interval.hi < 0.5 and judged.verdict == "reversed"
     assert judged.ours == "no run's shoulder ever locks"
 
 
 def test_lesion_start_needs_its_premise():
     scattered = [{"intact": reaches(start_spread_body=30),
                   "lesioned": reaches(start_spread_body=40 + i % 2)} for i in range(RUNS)]
-    judged = C.lesion_scatters_start(Evidence({}, scattered, Windows(G)))
-    assert judged.verdict == "contradicted" and "premise fails" in judged.ours
-    assert judged.criteria[1].verdict == "replicates"     # the spread grows, but from no one place
+    judged = C.judged_as("lesion-start", Evidence({}, scattered, Windows(G)))
+    assert judged.verdict == "reversed" and "premise is reversed" in judged.ours
+    assert judged.criteria[1].judged == "replicates"      # the spread grows, but from no one place
+    assert "the lesion's scattering replicates" in judged.ours
     tight = [{"intact": reaches(start_spread_body=5 + i % 2),
               "lesioned": reaches(start_spread_body=25 + i % 3)} for i in range(RUNS)]
-    assert C.lesion_scatters_start(Evidence({}, tight, Windows(G))).verdict == "replicates"
+    assert C.judged_as("lesion-start", Evidence({}, tight, Windows(G))).verdict == "replicates"
 
 
 def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
@@ -173,20 +197,20 @@ def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
 def test_a_level_that_holds_throughout_is_flagged_by_its_shuffled_nulls():
     """Non-fixated approach above random's all through training 'replicates' early and on
     every shuffle: the rule cannot tell the paper's early excess from a constant level. Its
-    random null differs from random by exactly 0 and so contradicts '> 0'."""
+    random null differs from random by exactly 0: no effect, absent."""
     normal = condition("normal", top_approach_nofix=noisy(np.full(G, 0.56), 0.01, 10))
     random = condition("random", top_approach_nofix=noisy(np.full(G, 0.50), 0.01, 11))
     results = {r.claim.key: r for r in C.evaluate({"normal": normal, "random": random}, [],
                                                   Windows(G), nulls=True)}
     level = results["nofix-above-chance"]
     assert level.verdict == "replicates" and level.nulls.shuffled == 1.0 and level.flagged
-    assert level.nulls.random == "contradicted"
+    assert level.nulls.random == "absent" and not level.chance_flagged
     assert not results["random-chance"].flagged          # no shuffled null: never flagged
 
 
 def test_a_verdict_can_depend_on_where_the_late_window_lies():
     """P(approach | fixated) 0.4 early, down to 0.25, up to 0.7 in the last two generations:
-    the last 5% show the rise, the last 15% average it away."""
+    the last 5% show the rise, the last 15% average it away (to no change: absent)."""
     curve = np.full(G, 0.4)
     curve[-6:-2], curve[-2:] = 0.25, 0.7
     ev = {"normal": condition("normal", top_approach_fix=noisy(curve, 0.01, 12))}
@@ -195,7 +219,7 @@ def test_a_verdict_can_depend_on_where_the_late_window_lies():
                 for label, w in Windows(G).moved().items()}
     assert C.judge(claim, Evidence(ev, [], Windows(G))).verdict == "replicates"
     assert verdicts == {"early 5%": "replicates", "early 15%": "replicates",
-                        "late 5%": "replicates", "late 15%": "inconclusive"}
+                        "late 5%": "replicates", "late 15%": "absent"}
 
 
 def test_the_moved_windows_are_the_first_and_last_5_and_15_percent():
@@ -216,8 +240,9 @@ def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
     assert keys.index("coact-early-shoulder") + 1 == keys.index("coact-early-elbow")
     assert keys.index("hand-slowdown") + 1 == keys.index("eye-slowdown")
     by_key = dict(zip(keys, C.CLAIMS))
-    assert by_key["coact-early-elbow"].measure.keywords == {"joint": "elbow"}
-    assert by_key["eye-slowdown"].measure.keywords == {"kind": "eye"}
+    assert by_key["coact-early-elbow"].measure.keywords["joint"] == "elbow"
+    assert by_key["eye-slowdown"].measure.keywords["kind"] == "eye"
+    assert by_key["eye-slowdown"].margin == C.EYE_MARGIN != by_key["hand-slowdown"].margin
     assert all(set(claim.nulls) <= {C.RANDOM, C.SHUFFLED} for claim in C.CLAIMS)
     assert C.RANDOM not in by_key["random-fitness"].nulls     # it reads random movement itself
     assert C.SHUFFLED in by_key["approach-increases"].nulls   # a time course

@@ -1,6 +1,7 @@
 """The report's claim and holding sections on hand-made results whose answers are known: the
-holding table, the tally (the paper's claims apart from the added ones, flagged ones apart),
-the window table, claims.csv, and what the optimizer study concludes from three verdicts."""
+holding table, the tally (the paper's claims apart from the added ones, raw and after Holm,
+with the flagged ones counted), the window table, claims.csv, and what the optimizer study
+concludes from the four verdicts."""
 import csv
 import math
 from pathlib import Path
@@ -45,40 +46,45 @@ def test_holding_counts_runs_that_hold_brush_or_never_reach():
     assert "| run-10 | n/a (does not reach) |" in lines
 
 
-def result(key, verdict, shuffled=math.nan, spread=1.0):
-    """A claim result whose one criterion gives the verdict asked for."""
-    low = {"replicates": 1.0, "contradicted": -3.0, "inconclusive": -0.5}[verdict]
-    difference = paired(low + np.linspace(0, spread, RUNS), np.zeros(RUNS))
-    judged = Judged(f"{key} measured", (above(f"{key} difference", difference),))
+def result(key, verdict, shuffled=math.nan, random="reversed", p_holm=None):
+    """A claim result whose one criterion gives the verdict asked for (Holm-adjusted p: the
+    raw one unless given)."""
+    low = {"replicates": 1.0, "reversed": -3.0, "inconclusive": -0.5, "absent": -0.5}[verdict]
+    difference = paired(low + np.linspace(0, 1.0, RUNS), np.zeros(RUNS))
+    margin = 1.0 if verdict == "absent" else math.nan
+    judged = Judged(f"{key} measured", (above(f"{key} difference", difference, margin=margin),))
     assert judged.verdict == verdict
-    return ClaimResult(CLAIM[key], judged, Nulls("contradicted", shuffled))
+    return ClaimResult(CLAIM[key], judged, Nulls(random, shuffled),
+                       judged.p if p_holm is None else p_holm)
 
 
-def test_the_tally_keeps_added_and_flagged_claims_apart():
-    results = [result("fitness", "replicates"), result("latency", "contradicted"),
+def test_the_tally_counts_four_verdicts_raw_and_after_holm_with_the_flagged():
+    results = [result("fitness", "replicates", p_holm=0.2),              # Holm: inconclusive
+               result("latency", "reversed"), result("successes", "absent"),
                result("lock-speed", "replicates", shuffled=1.0),            # flagged
-               result("others-mobile", "inconclusive"),                     # added
+               result("others-mobile", "inconclusive", random="replicates"),  # added, flagged
                result("two-joint-search", "replicates", shuffled=0.5)]      # added, flagged
     lines = report._tally(results)
-    assert "| the paper's, not flagged | 1 | 1 | 0 | 0 | 2 |" in lines
-    assert "| the paper's, flagged | 1 | 0 | 0 | 0 | 1 |" in lines
-    assert "| added, not flagged | 0 | 0 | 1 | 0 | 1 |" in lines
-    assert "| added, flagged | 1 | 0 | 0 | 0 | 1 |" in lines
+    # replicates | absent | reversed | inconclusive | n/a | all | flagged
+    assert "| the paper's, raw | 2 | 1 | 1 | 0 | 0 | 4 | 1 |" in lines
+    assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 0 | 4 | 1 |" in lines
+    assert "| added, raw | 1 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    assert results[0].adjusted == "inconclusive" and results[1].adjusted == "reversed"
     table = report._claims_table(results, nulls=True)
-    assert table.count("(cannot tell a time course from a level)") == 2
-    assert "P(approach" not in table and "detectable" in table
+    assert table.count("(flagged: cannot tell a time course from a level)") == 2
+    assert table.count("(flagged: replicates on random movement") == 1
+    assert "P(approach" not in table and "detectable" in table and "margin 1" in table
 
 
 def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
-    base = [result("fitness", "replicates"), result("latency", "contradicted")]
+    base = [result("fitness", "replicates"), result("latency", "reversed")]
     moved = {label: list(base) for label in Windows(200).moved()}
     moved["late 15%"] = [base[0], result("latency", "inconclusive")]
     analysis = SimpleNamespace(windows=Windows(200), claims={"base": base},
                                moved_windows=moved)
     lines = report._windows(analysis)
     rows = [line for line in lines if line.startswith("| 2 |")]
-    assert rows == ["| 2 | latency | contradicted | contradicted | contradicted | contradicted "
-                    "| inconclusive |"]
+    assert rows == ["| 2 | latency | reversed | reversed | reversed | reversed | inconclusive |"]
     assert not any(line.startswith("| 1 |") for line in lines)
     assert "late 15% (gens 170-199)" in lines[2] and "early 5% (gens 0-9)" in lines[2]
     unmoved = {label: list(base) for label in Windows(200).moved()}
@@ -87,23 +93,30 @@ def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
 
 
 def test_claims_csv_has_the_deciding_interval_its_method_power_and_flags(tmp_path):
-    results = [result("fitness", "inconclusive"), result("lock-speed", "replicates", 0.9)]
-    moved = {"early 5%": [results[0], result("lock-speed", "contradicted")]}
+    results = [result("fitness", "inconclusive"),
+               result("lock-speed", "replicates", 0.9, random="replicates", p_holm=0.3),
+               result("successes", "absent")]
+    moved = {"early 5%": [results[0], result("lock-speed", "reversed"), results[2]]}
     path = tmp_path / "claims.csv"
     report.write_claims_csv(path, results, moved)
     rows = list(csv.DictReader(open(path, newline="")))
     assert list(rows[0]) == report.CLAIM_COLUMNS
-    first, second = rows
+    first, second, third = rows
     criterion = results[0].judged.criteria[0]
     assert (first["criterion"], first["method"], first["n"], first["region"]) == (
         "fitness difference", "t", "10", "> 0")
     assert float(first["ci_low"]) == pytest.approx(criterion.interval.lo)
     assert float(first["detectable"]) == pytest.approx(criterion.comparison.detectable)
-    assert first["verdict"] == "inconclusive" and first["flag"] == "" and \
-        first["window_changes"] == ""
-    assert second["flag"] == "cannot tell a time course from a level"
-    assert second["window_changes"] == "early 5%: contradicted"
-    assert second["null_random_verdict"] == "contradicted"
+    assert first["verdict"] == first["verdict_holm"] == "inconclusive"
+    assert (first["flag_shuffled"], first["flag_random"], first["window_changes"]) == (
+        "False", "False", "")
+    assert (second["flag_shuffled"], second["flag_random"]) == ("True", "True")
+    assert second["window_changes"] == "early 5%: reversed"
+    assert (second["verdict"], second["verdict_holm"], float(second["p_holm"])) == (
+        "replicates", "inconclusive", 0.3)
+    assert float(second["p_raw"]) < 0.05 and second["null_random_verdict"] == "replicates"
+    assert (third["verdict"], float(third["margin"])) == ("absent", 1.0)
+    assert float(third["runs_for_80_power"]) >= 2
 
 
 def test_a_claim_without_criteria_is_written_as_not_measured(tmp_path):
@@ -115,16 +128,16 @@ def test_a_claim_without_criteria_is_written_as_not_measured(tmp_path):
 
 
 @pytest.mark.parametrize("ga, others, expected", [
-    ("replicates", ("replicates", "replicates"), "Under every optimizer (the task's): "
-                                                 "shoulder locking"),
-    ("replicates", ("contradicted", "contradicted"), "(the algorithm's): shoulder locking"),
-    ("replicates", ("contradicted", "inconclusive"), "Cannot be told from these runs: shoulder "
-                                                     "locking (GA (paper) replicates, CMA-ES "
-                                                     "contradicted, ES inconclusive)"),
-    ("contradicted", ("contradicted", "contradicted"), "Absent under every optimizer: "
-                                                       "shoulder locking"),
+    ("replicates", ("replicates", "replicates"), "Under every optimizer (not the GA's; the "
+                                                 "task's or the shared network's): shoulder "
+                                                 "locking"),
+    ("replicates", ("reversed", "absent"), "(the algorithm's): shoulder locking"),
+    ("replicates", ("reversed", "inconclusive"), "Cannot be told from these runs: shoulder "
+                                                 "locking (GA (paper) replicates, CMA-ES "
+                                                 "reversed, ES inconclusive)"),
+    ("absent", ("reversed", "absent"), "Absent under every optimizer: shoulder locking"),
 ])
-def test_the_optimizer_study_reads_three_verdicts(ga, others, expected):
+def test_the_optimizer_study_reads_the_four_verdicts(ga, others, expected):
     verdicts = dict(zip(("ga", "cmaes", "es"), (ga, *others)))
     claims = {opt: [result("shoulder-locked", v)] + [result(key, "inconclusive") for key in
                                                      ("elbow-coactivated", "stereotyped-start",

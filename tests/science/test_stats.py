@@ -5,9 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from econet_ros.science.stats import (EXACT_SHARE, ORDER_STATISTICS, detectable, estimate,
-                                      firth_logistic, median, paired, share, share_difference,
-                                      t_interval, welch)
+from econet_ros.science.stats import (CLIPPED, EXACT_SHARE, ORDER_STATISTICS, bounded,
+                                      detectable, estimate, firth_logistic, holm, median, paired,
+                                      runs_needed, share, share_difference, t_interval, tail,
+                                      welch)
 
 
 def test_t_interval_by_hand():
@@ -86,3 +87,75 @@ def test_firth_logistic_is_finite_under_separation_and_maximum_likelihood_on_big
     y = rng.random(20000) < 1 / (1 + np.exp(-(0.5 + 1.2 * x)))
     terms = firth_logistic({"x": x}, y).terms
     assert terms["x"].lo < 1.2 < terms["x"].hi and terms["intercept"].lo < 0.5 < terms["intercept"].hi
+
+
+def hold_or_brush(rng, draws: int, n: int = 10, brushing: float = 0.15) -> np.ndarray:
+    """Runs like the study's: most hold (about 0.15 separations per successful trial), a few
+    brush (about 20)."""
+    holds = rng.random((draws, n)) >= brushing
+    return np.abs(np.where(holds, rng.normal(0.15, 0.05, (draws, n)),
+                           rng.normal(20.0, 3.0, (draws, n))))
+
+
+def test_on_hold_or_brush_mixtures_at_n_10_the_median_interval_covers_and_the_t_does_not():
+    """The coverage of 95% intervals on mixtures: 15% of runs brush. The t interval of the mean
+    misses whenever no run of ten brushes (0.85^10 = 20% of draws) and more; the
+    order-statistic interval of the median keeps at least 95% (0.979 at n = 10, whatever the
+    shape), and the exact interval of the share of holding runs keeps its 95% too. The
+    median's coverage is counted twice: by stats.median and by numpy's sort alone."""
+    rng = np.random.default_rng(29)
+    samples = hold_or_brush(rng, 4000)
+    population = hold_or_brush(rng, 200, n=10_000).ravel()
+    true_median, true_mean = np.median(population), population.mean()
+    medians = [median(s) for s in samples]
+    covered = np.mean([m.lo <= true_median <= m.hi for m in medians])
+    ordered = np.sort(samples, axis=1)                   # x(2) and x(9) by numpy alone
+    assert covered == np.mean((ordered[:, 1] <= true_median) & (true_median <= ordered[:, 8]))
+    assert covered >= 0.95
+    t_covered = np.mean([lo <= true_mean <= hi for lo, hi in map(t_interval, samples)])
+    assert t_covered < 0.85
+    holding = [share(s < 1.0) for s in samples]
+    assert np.mean([h.lo <= 0.85 <= h.hi for h in holding]) >= 0.95
+    assert all(m.lo >= 0 for m in medians)               # never below what the measure can be
+
+
+def test_a_t_interval_clipped_to_its_measures_range_says_so():
+    ratios = [0.12, 0.11, 0.06, 0.18, 0.12, 0.14, 4.09, 0.15, 0.20, 0.10]
+    raw = estimate(ratios)
+    assert raw.lo < 0                                    # the study's 0.53 [-0.37, 1.42]
+    clipped = bounded(raw)
+    assert (clipped.lo, clipped.hi, clipped.mean) == (0.0, raw.hi, raw.mean)
+    assert clipped.method == "t" + CLIPPED
+    assert bounded(estimate([1, 1.1, 0.9])) == estimate([1, 1.1, 0.9])      # nothing to clip
+    assert tail(clipped, 0.0, above=True) == tail(raw, 0.0, above=True)   # the same test
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_each_p_value_decides_exactly_where_its_95_percent_interval_does(seed):
+    rng = np.random.default_rng(seed)
+    x = rng.normal(rng.normal(0, 1), 1.0, 10)
+    for e in (estimate(x), median(x), share(x > 0)):
+        bound = 0.5 if e.method == EXACT_SHARE else 0.0
+        assert (tail(e, bound, above=True) < 0.05) == (e.lo > bound)
+        assert (tail(e, bound, above=False) < 0.05) == (e.hi < bound)
+
+
+def test_holm_by_hand():
+    adjusted = holm([0.01, 0.04, 0.03, math.nan, 0.005])
+    # sorted 0.005, 0.01, 0.03, 0.04 (m = 4): 0.02, 0.03, 0.06, max(0.06, 0.04) = 0.06
+    assert adjusted[[4, 0, 2, 1]] == pytest.approx([0.02, 0.03, 0.06, 0.06])
+    assert math.isnan(adjusted[3])
+
+
+def test_runs_needed_for_80_percent_power_at_the_margin():
+    x = np.random.default_rng(3).normal(0.0, 1.0, 10)
+    e = estimate(x)
+    n = runs_needed(e, margin=1.0)
+    s = x.std(ddof=1)
+    assert detectable(int(n), s) <= 1.0 < detectable(int(n) - 1, s)
+    # the sign test: shifted to a median of 1, all ten runs lie above 0 -> a share of 1
+    assert runs_needed(median(x), 10.0) == runs_needed(share([1.0] * 10), 0.5, edge=0.5) == 6
+    assert runs_needed(median(x), 0.1) > runs_needed(median(x), 1.0)
+    assert runs_needed(share([1.0] * 10), 0.4, edge=0.5) < runs_needed(share([1.0] * 10), 0.2,
+                                                                        edge=0.5)
+    assert math.isnan(runs_needed(e, math.nan))

@@ -14,7 +14,7 @@ from econet_ros.science.lesion import lesion_study
 from econet_ros.science.report import build_report
 from econet_ros.science.series import Windows
 from econet_ros.science.study import StudySpec, load_study, run_study
-from econet_ros.science.verdicts import VERDICTS
+from econet_ros.science.verdicts import FOUR_VERDICTS as VERDICTS
 
 TINY = ["--runs", "2", "--generations", "4", "--population", "10", "--parents", "2",
         "--trials", "3", "--cycles", "25", "--quiet", "--jobs", "1"]
@@ -80,14 +80,15 @@ def test_report_builds_with_every_claim_and_figure(tiny_study, tmp_path):
     table = [line for line in text.splitlines() if line.startswith("| ") and "| **" in line]
     assert len(table) == 2 * len(CLAIMS)     # every claim, for the base study and the variant
     assert all(any(f"**{v}**" in line for v in VERDICTS) for line in table)
-    assert "| the paper's, not flagged |" in text and "| added, flagged |" in text
+    assert "| the paper's, raw |" in text and "| added, Holm |" in text
     assert "## Hold or brush, per run" in text and "## Do the verdicts depend on the windows?" \
         in text
     claims = rows(tmp_path / "claims.csv")
     assert [row["key"] for row in claims] == [claim.key for claim in CLAIMS]
-    assert all(row["verdict"] in VERDICTS for row in claims)
+    assert all(row["verdict"] in VERDICTS and row["verdict_holm"] in VERDICTS for row in claims)
     measured = [row for row in claims if row["verdict"] != "n/a"]
-    assert measured and all(row["method"] in ("t", "Clopper-Pearson", "count") and
+    assert measured and all(row["method"].split(",")[0] in ("t", "Clopper-Pearson", "count",
+                                                            "order statistics") and
                             int(row["n"]) >= 1 and row["criteria"] for row in measured)
     assert "All runs of all conditions are complete" in text
     assert "the algorithm's?" not in text          # no optimizer variants, no such section

@@ -3,10 +3,12 @@ open and closed edges, a count that cannot contradict, and the combination of cr
 import math
 
 import pytest
+from scipy.stats import t as t_quantile
 
-from econet_ros.science.stats import EXACT_SHARE, Estimate, fewest_runs, paired, share
-from econet_ros.science.verdicts import (CONTRADICTED, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
-                                         above, below, combine, most_runs, sign_count, within)
+from econet_ros.science.stats import EXACT_SHARE, Estimate, Paired, fewest_runs, paired, share
+from econet_ros.science.verdicts import (ABSENT, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED,
+                                         REPLICATES, REVERSED, above, below, combine, decide,
+                                         most_runs, sign_count, within)
 
 
 def interval(lo, hi, n=10):
@@ -88,10 +90,51 @@ def test_most_runs_replicates_above_half_and_contradicts_below_the_papers_share(
     # 8 of 10: [0.44, 0.97] spans 0.5; 2 of 10: [0.03, 0.56] lies below the paper's 0.8
     judged = most_runs("share compliant", share([1] * k + [0] * (10 - k)), 0.8)
     assert judged.verdict == verdict
-    assert judged.region == "> 0.5 (most runs); contradicted below 0.8"
+    assert judged.region == "> 0.5 (most runs); reversed below 0.8"
 
 
 @pytest.mark.parametrize("bound, runs", [(0.5, 6), (0.7, 11), (0.8, 17), (0.9, 36)])
 def test_fewest_runs_is_where_all_runs_first_show_the_bound(bound, runs):
     assert fewest_runs(bound) == runs
     assert share([1] * runs).lo >= bound > share([1] * (runs - 1)).lo
+
+
+def difference(lo, hi, n=10):
+    """A paired difference with this 95% t interval (its test is the t test)."""
+    se = (hi - lo) / 2 / t_quantile.ppf(0.975, n - 1)
+    return Paired(Estimate((lo + hi) / 2, lo, hi, n, se=se), math.nan, 0, 0)
+
+
+@pytest.mark.parametrize("lo, hi, expected", [
+    (0.2, 0.5, REPLICATES), (-0.04, 0.03, ABSENT), (-0.5, -0.2, REVERSED),
+    (-0.08, -0.01, REVERSED),            # wholly below 0, not within the margin
+    (-0.04, -0.01, ABSENT),              # a reversal smaller than the margin: no effect
+    (-0.1, 0.3, INCONCLUSIVE), (-0.08, 0.01, INCONCLUSIVE)])
+def test_four_verdicts_against_a_margin_of_005(lo, hi, expected):
+    c = above("d", difference(lo, hi), margin=0.05)
+    assert c.judged == expected
+    decided = {v: c.p(v) < 0.05 for v in (REPLICATES, ABSENT, REVERSED)}
+    assert decided[expected] if expected != INCONCLUSIVE else not decided[ABSENT]
+    assert "margin 0.05" in c.text(four=True) and expected in c.text(four=True)
+
+
+def test_a_threshold_a_band_or_a_share_is_never_absent():
+    assert below("ratio", interval(0.49, 0.52), 0.5, margin=0.05).judged == INCONCLUSIVE
+    assert within("p", interval(0.56, 0.60), 0.45, 0.55).judged == REVERSED
+    assert most_runs("share", share([1] * 2 + [0] * 8), 0.8, margin=0.3).judged == REVERSED
+    assert above("d", difference(-0.01, 0.01)).judged == INCONCLUSIVE      # no margin given
+
+
+def test_a_claim_decides_by_its_criteria_with_the_p_value_of_its_test():
+    good, weak = above("a", difference(0.2, 0.5), margin=0.05), \
+        above("b", difference(0.01, 0.3), margin=0.05)
+    verdict, p = decide([good, weak])
+    assert verdict == REPLICATES and p == max(good.p(REPLICATES), weak.p(REPLICATES)) < 0.05
+    none = above("c", difference(-0.02, 0.02), margin=0.05)
+    back = above("d", difference(-0.5, -0.2), margin=0.05)
+    assert decide([good, none])[0] == ABSENT
+    assert decide([good, none, back])[0] == REVERSED
+    assert decide([good, none, back, weak], needed=3)[0] == ABSENT       # 2 fail, 1 reversed
+    assert decide([good, back, back, weak], needed=3)[0] == REVERSED     # 2 reversed of 1 spare
+    assert decide([good, good, none, weak], needed=3) == (REPLICATES, weak.p(REPLICATES))
+    assert decide([]) == (NOT_JUDGED, pytest.approx(math.nan, nan_ok=True))
