@@ -55,8 +55,9 @@ class RecorderNode(Node):
         except OSError as error:
             raise BagError(f"cannot create bag {self.out}: {error.strerror or error}") from None
         self.names = names
-        self.get_logger().info(f"bag {self.out} open; waiting for publishers of "
-                               f"{', '.join(self.recorder.unmatched())}")
+        unmatched = self.recorder.unmatched()     # none where the graph shares the process
+        self.get_logger().info(f"bag {self.out} open" + (
+            f"; waiting for publishers of {', '.join(unmatched)}" if unmatched else ""))
         self.matched_at: float | None = None
         self.waiting = self.create_timer(0.05, self._check_matched)
 

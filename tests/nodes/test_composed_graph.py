@@ -1,7 +1,7 @@
 """The graph composed in one process (graph_node): each node takes its own section of the command
-line, the evolution writes what the three processes and `econet evolve` write, an outside node
-sees every topic, service and parameter and drives the composed world and controller in
-lockstep."""
+line, the evolution writes what the three processes and `econet evolve` write, a recorder in
+the process records all of it, an outside node sees every topic, service and parameter and
+drives the composed world and controller in lockstep."""
 import os
 import signal
 import subprocess
@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 import pytest
+import yaml
 
 from graph_helpers import REPO, call, ros_session, spin_until
 
@@ -76,7 +77,8 @@ def test_composed_graph_evolves_as_in_process_and_serves_an_outside_node(ros, tm
         proc = subprocess.Popen(
             [sys.executable, "-m", "econet_ros.nodes.graph_node", "--ros-args", "-r",
              "__ns:=/c", "--", "world", "--ros-args", "-p", "n_envs:=2", "supervisor",
-             "--ros-args", *[x for p in supervisor for x in ("-p", p)]],
+             "--ros-args", *[x for p in supervisor for x in ("-p", p)], "recorder",
+             "--ros-args", "-p", f"out:={tmp_path / 'bag'}", "-p", "topics:=retina"],
             cwd=REPO, stdout=handle, stderr=subprocess.STDOUT, start_new_session=True)
     try:
         node = rclpy.create_node("outside", namespace="/c")
@@ -123,6 +125,11 @@ def test_composed_graph_evolves_as_in_process_and_serves_an_outside_node(ros, tm
         os.killpg(proc.pid, signal.SIGINT)
         proc.wait(30)
     assert proc.returncode == 0, log.read_text()
+    # the recorder joined before the first generation and closed its bag at the end
+    metadata = yaml.safe_load((tmp_path / "bag" / "metadata.yaml").read_text())
+    counts = {t["topic_metadata"]["name"]: t["message_count"]
+              for t in metadata["rosbag2_bagfile_information"]["topics_with_message_count"]}
+    assert counts["/c/retina"] == 3 * (SMALL["cycles"] + 1) + 41
 
 
 @pytest.mark.ros
