@@ -85,14 +85,14 @@ def _maker(name: str, cls: type[Node], cli_args: list[str]):
 def _run(nodes: list[Node], executor) -> int:
     """Wait until every node that can say so is ready (a recorder records), then evolve; the
     nodes that close something (a recorder's bag) close it whatever happens."""
-    from .supervisor_node import evolve_with
+    from .supervisor_node import SupervisorNode, evolve_with
 
     finished = False
     try:
         while not all(node.ready() for node in nodes if hasattr(node, "ready")):
             check_stop()
             executor.spin_once(timeout_sec=0.05)
-        supervisor = next(node for node in nodes if node.get_name() == "supervisor")
+        supervisor = next(node for node in nodes if isinstance(node, SupervisorNode))
         status = evolve_with(supervisor, executor)
         finished = True
         return status

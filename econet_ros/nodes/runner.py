@@ -1,10 +1,11 @@
-"""Running a node: its parameters declared from one table (with types, ranges and descriptions,
-as turtlesim does), ``--help`` from the same table, the executor, and the one place where an
+"""Running a node (run_node), or several in one process on one executor (run_nodes, for
+graph_node): its parameters declared from one table (with types, ranges and descriptions, as
+turtlesim does), ``--help`` from the same table, the executor, and the one place where an
 EconetError becomes one line on stderr (exit 2) and SIGINT or SIGTERM end quietly (exit 0).
 
 Signals only raise a flag (rclpy's own handlers, which shut the context down at once, are not
 installed): a callback that is publishing when the signal comes finishes, and the node stops
-between callbacks, where every spin loop checks the flag (``spin``, ``check_stop``)."""
+between callbacks, where every spin loop checks the flag (``serve``, ``check_stop``)."""
 from __future__ import annotations
 
 import os

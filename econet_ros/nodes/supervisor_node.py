@@ -191,8 +191,8 @@ def evolve_with(node: SupervisorNode, executor) -> int:
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("supervisor_node", SupervisorNode, args, body=evolve_with, parameters=PARAMETERS,
-                    doc=__doc__)
+    return run_node("supervisor_node", SupervisorNode, args, body=evolve_with,
+                    parameters=PARAMETERS, doc=__doc__)
 
 
 if __name__ == "__main__":
