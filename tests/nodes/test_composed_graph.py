@@ -52,6 +52,19 @@ def test_sections_go_to_their_nodes():
                                        "generations:=2"]}     # a file named world stays a file
 
 
+@pytest.mark.parametrize("command, says", [
+    (["scripts/node", "graph", "supervisor", "--help"],
+     "usage: supervisor_node [--ros-args -p NAME:=VALUE ...]"),
+    (["install/econet_ros/lib/econet_ros/graph_node", "--help"],
+     "The graph composed in one process"),
+])
+def test_help_of_the_graph_and_of_one_of_its_nodes(command, says):
+    proc = subprocess.run([str(REPO / command[0]), *command[1:]], cwd=REPO,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith(says)
+
+
 @pytest.mark.ros
 def test_a_parameter_for_every_node_that_one_lacks_is_a_one_line_error():
     proc = subprocess.run([sys.executable, "-m", "econet_ros.nodes.graph_node", "--ros-args",
