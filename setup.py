@@ -25,7 +25,8 @@ MSG_PACKAGE = package_name + '.recording.msg'
 
 # The nodes' console scripts (`ros2 run econet_ros world_node`, ...) start through
 # econet_ros.cli.nodes, which says in one line what is missing where ROS 2 is not installed.
-NODES = ('world_node', 'controller_node', 'supervisor_node', 'recorder_node', 'viewer_node')
+NODES = ('world_node', 'controller_node', 'supervisor_node', 'recorder_node', 'viewer_node',
+         'graph_node')
 
 setup(
     name=package_name,

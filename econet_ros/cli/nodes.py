@@ -1,4 +1,5 @@
-"""The nodes' console scripts (``ros2 run econet_ros world_node``, ...): each starts its node,
+"""The nodes' console scripts (``ros2 run econet_ros world_node``, ..., and
+``graph_node``, the graph composed in one process): each starts its node,
 or, where ROS 2 or a node's optional dependency is not installed (a core installed by pip), says
 in one line what is missing instead of a traceback."""
 from __future__ import annotations
@@ -40,3 +41,7 @@ def recorder_node() -> int:
 
 def viewer_node() -> int:
     return run("viewer_node")
+
+
+def graph_node() -> int:
+    return run("graph_node")

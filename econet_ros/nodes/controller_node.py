@@ -40,8 +40,9 @@ PARAMETERS = (
 
 
 class ControllerNode(Node):
-    def __init__(self):
-        super().__init__("controller")
+    def __init__(self, **node_options):
+        """node_options go to rclpy's Node (e.g. cli_args, as graph_node gives them)."""
+        super().__init__("controller", **node_options)
         v = declare_parameters(self, PARAMETERS)
         self.controller_name = v["controller"]
         self.config = node_config(v["config"])

@@ -18,11 +18,10 @@ import sys
 import time
 from pathlib import Path
 
-import rclpy
 from rclpy.node import Node
 
 from ..errors import BagError, ConfigError
-from .runner import Param, declare_parameters, run_node, stop_requested
+from .runner import Param, declare_parameters, run_node, serve
 from .topic_recorder import ALL_TOPICS, TopicRecorder
 
 # A subscription sees its publishers before they see it (each side learns of the other on its
@@ -38,8 +37,9 @@ PARAMETERS = (
 
 
 class RecorderNode(Node):
-    def __init__(self):
-        super().__init__("recorder")
+    def __init__(self, **node_options):
+        """node_options go to rclpy's Node (e.g. cli_args, as graph_node gives them)."""
+        super().__init__("recorder", **node_options)
         v = declare_parameters(self, PARAMETERS)
         out, topics = v["out"], v["topics"]
         self.out = Path(out or time.strftime("bags/econet-%Y%m%d-%H%M%S"))
@@ -55,8 +55,9 @@ class RecorderNode(Node):
         except OSError as error:
             raise BagError(f"cannot create bag {self.out}: {error.strerror or error}") from None
         self.names = names
-        self.get_logger().info(f"bag {self.out} open; waiting for publishers of "
-                               f"{', '.join(self.recorder.unmatched())}")
+        unmatched = self.recorder.unmatched()     # none where the graph shares the process
+        self.get_logger().info(f"bag {self.out} open" + (
+            f"; waiting for publishers of {', '.join(unmatched)}" if unmatched else ""))
         self.matched_at: float | None = None
         self.waiting = self.create_timer(0.05, self._check_matched)
 
@@ -73,15 +74,28 @@ class RecorderNode(Node):
             self.waiting.cancel()
             self.get_logger().info(f"recording {', '.join(self.names)} to {self.out}")
 
+    def ready(self) -> bool:
+        """Whether it records (said "recording"): what is published from now on is in the bag."""
+        return self.waiting.is_canceled()
+
+    def close(self, executor=None) -> None:
+        """Close the bag; with the executor that serves this node, first take what had arrived
+        (after a signal, or in a composed graph after the evolution)."""
+        try:
+            if executor is not None:
+                _drain(self.recorder, executor)
+        finally:
+            self.recorder.stop()
+            print(f"recorder_node: bag closed: {self.out}", file=sys.stderr)
+
 
 def _body(node: RecorderNode, executor) -> int:
     try:
-        while rclpy.ok() and not stop_requested():
-            executor.spin_once(timeout_sec=0.2)
-        _drain(node.recorder, executor)
-    finally:
-        node.recorder.stop()          # Ctrl-C, SIGTERM or an error
-        print(f"recorder_node: bag closed: {node.out}", file=sys.stderr)
+        serve(executor, timeout_sec=0.2)
+    except BaseException:
+        node.close()                  # an error: the bag closes with what it has
+        raise
+    node.close(executor)
     return 0
 
 

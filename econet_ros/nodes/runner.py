@@ -1,10 +1,11 @@
-"""Running a node: its parameters declared from one table (with types, ranges and descriptions,
-as turtlesim does), ``--help`` from the same table, the executor, and the one place where an
+"""Running a node (run_node), or several in one process on one executor (run_nodes, for
+graph_node): its parameters declared from one table (with types, ranges and descriptions, as
+turtlesim does), ``--help`` from the same table, the executor, and the one place where an
 EconetError becomes one line on stderr (exit 2) and SIGINT or SIGTERM end quietly (exit 0).
 
 Signals only raise a flag (rclpy's own handlers, which shut the context down at once, are not
 installed): a callback that is publishing when the signal comes finishes, and the node stops
-between callbacks, where every spin loop checks the flag (``spin``, ``check_stop``)."""
+between callbacks, where every spin loop checks the flag (``serve``, ``check_stop``)."""
 from __future__ import annotations
 
 import os
@@ -161,11 +162,16 @@ def check_stop() -> None:
 
 
 def spin(node: Node, executor) -> None:
-    """Serve callbacks until a signal or shutdown. A finite timeout: the EventsExecutor spun
-    without one busy-loops, and the stop flag is looked at between spins."""
+    """Serve the node's callbacks until a signal or shutdown (see serve)."""
     executor.add_node(node)
+    serve(executor)
+
+
+def serve(executor, timeout_sec: float = 0.5) -> None:
+    """Serve the executor's nodes until a signal or shutdown. A finite timeout: the
+    EventsExecutor spun without one busy-loops, and the stop flag is looked at between spins."""
     while rclpy.ok() and not stop_requested():
-        executor.spin_once(timeout_sec=0.5)
+        executor.spin_once(timeout_sec=timeout_sec)
 
 
 def _catch_signals() -> None:
@@ -175,6 +181,20 @@ def _catch_signals() -> None:
         signal.signal(sig, lambda *_: _STOP.set())
 
 
+def wants_help(args: list[str]) -> bool:
+    """Whether the command line, before any --ros-args, asks for --help (or -h)."""
+    ours = args[:args.index("--ros-args")] if "--ros-args" in args else args
+    return "--help" in ours or "-h" in ours
+
+
+def print_help(text: str) -> int:
+    try:
+        print(text, flush=True)
+    except BrokenPipeError:                 # `--help | head`: the reader had enough
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    return 0
+
+
 def run_node(prog: str, make: Callable[[], Node], args: list[str] | None = None,
              body: Callable[[Node, object], int | None] | None = None,
              parameters: tuple[Param, ...] = (), doc: str = "") -> int:
@@ -182,36 +202,40 @@ def run_node(prog: str, make: Callable[[], Node], args: list[str] | None = None,
     parameters and starts nothing; bad input ends in one line on stderr and exit status 2;
     SIGINT and SIGTERM end quietly with status 0, whatever was running then."""
     args = sys.argv if args is None else args
-    ours = args[:args.index("--ros-args")] if "--ros-args" in args else args
-    if "--help" in ours or "-h" in ours:
-        try:
-            print(usage(prog, doc, parameters), flush=True)
-        except BrokenPipeError:                 # `--help | head`: the reader had enough
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
+    if wants_help(args):
+        return print_help(usage(prog, doc, parameters))
+
+    def run(nodes: list[Node], executor) -> int | None:
+        return serve(executor) if body is None else body(nodes[0], executor)
+    return run_nodes(prog, args, [make], run)
+
+
+def run_nodes(prog: str, args: list[str], makers: list[Callable[[], Node]],
+              run: Callable[[list[Node], object], int | None]) -> int:
+    """rclpy started with ``args`` (its global arguments), the nodes built in order and added
+    to one executor, then run(nodes, executor); every node is destroyed at the end. An
+    EconetError is one line on stderr (exit 2), a signal a quiet end (exit 0)."""
     _catch_signals()
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     except Exception as error:  # noqa: BLE001 - rclpy's argument parser: one line
         print(f"{prog}: error: {str(error).strip().splitlines()[0]}", file=sys.stderr)
         return 2
-    node = None
+    nodes: list[Node] = []
     status = 0
     try:
         executor = make_executor()
-        node = make()
-        if body is None:
-            spin(node, executor)
-        else:
-            executor.add_node(node)
-            status = body(node, executor) or 0
+        for make in makers:
+            nodes.append(make())
+            executor.add_node(nodes[-1])
+        status = run(nodes, executor) or 0
     except EconetError as error:
         print(f"{prog}: error: {error}", file=sys.stderr)
         status = 2
     except Stopped:
         status = 0
     finally:
-        if node is not None:
+        for node in reversed(nodes):
             try:
                 node.destroy_node()
             except Exception:  # noqa: BLE001 - shutting down anyway

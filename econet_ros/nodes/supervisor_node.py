@@ -183,14 +183,16 @@ class SupervisorNode(Node):
         return 0
 
 
-def _body(node: SupervisorNode, executor) -> int:
+def evolve_with(node: SupervisorNode, executor) -> int:
+    """The supervisor's run: evolve, spinning ``executor`` whenever it waits for a reply or a
+    message (in a composed graph that executor serves the world and controller too)."""
     node.evaluator.executor = executor
     return node.evolve()
 
 
 def main(args: list[str] | None = None) -> int:
-    return run_node("supervisor_node", SupervisorNode, args, body=_body, parameters=PARAMETERS,
-                    doc=__doc__)
+    return run_node("supervisor_node", SupervisorNode, args, body=evolve_with,
+                    parameters=PARAMETERS, doc=__doc__)
 
 
 if __name__ == "__main__":

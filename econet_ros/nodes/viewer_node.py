@@ -47,8 +47,9 @@ def _channel(topic: str, msgtype: str) -> foxglove.Channel:
 
 
 class ViewerNode(Node):
-    def __init__(self):
-        super().__init__("viewer")
+    def __init__(self, **node_options):
+        """node_options go to rclpy's Node (e.g. cli_args, as graph_node gives them)."""
+        super().__init__("viewer", **node_options)
         v = declare_parameters(self, PARAMETERS)
         self.server = foxglove.start_server(name="econet", host=v["host"], port=v["port"])
         self.channels = {topic: _channel(self.resolve_topic_name(topic), TOPICS[topic].type)

@@ -60,8 +60,9 @@ PARAMETERS = (
 
 
 class WorldNode(Node):
-    def __init__(self):
-        super().__init__("world")
+    def __init__(self, **node_options):
+        """node_options go to rclpy's Node (e.g. cli_args, as graph_node gives them)."""
+        super().__init__("world", **node_options)
         v = declare_parameters(self, PARAMETERS)
         self.refusals = graph.RateLimitedLog(self)
         n_envs, rate, display_rate = v["n_envs"], v["rate_hz"], v["display_rate_hz"]

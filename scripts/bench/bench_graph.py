@@ -10,11 +10,18 @@
      supervisor does; what the message design costs before any work is done;
   4. graph: the same generation through world_node and controller_node, each in its own
      process, driven by this process as the supervisor (SupervisorNode.test_generation);
+  4b. with --apart-env 'NAME=VALUE ...' (repeatable): the graph again with world_node and
+     controller_node started with those environment variables, then the default once more;
+  5. composed, in a child process that starts as graph_node does: messaging alone between a
+     stand-in world and controller that are nodes of that one process, and the generation
+     through a WorldNode, ControllerNode and SupervisorNode of that process on one executor;
 and prints how far the graph is above its floor, floor = in-process + messaging alone (the
 model's work plus the messages, neither of which the graph can avoid), against the target of
 1.3 x the floor, and the projected time of a whole run; then where a cycle of the graph goes:
 each part of the nodes' per-cycle work timed in a hot loop here (the same calls the nodes
-make, paper size), against the graph's cycle and messaging alone.
+make, paper size), against the graph's cycle and messaging alone; then the composed graph
+against its own floor (in-process + messaging alone within one process) and against the
+in-process generation (target 1.5x). The load average is printed at the start and the end.
 
 Every process it starts is waited for until it says it is ready (the nodes log "... ready" once
 their kernels are compiled, minutes on a cold numba cache), not for a fixed time.
@@ -26,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import collections
+import json
 import os
 import random
 import signal
@@ -41,6 +49,8 @@ REPO = Path(__file__).resolve().parents[2]
 # on a cold numba cache takes 2-3 minutes on a busy two-core machine.
 READY_TIMEOUT_SEC = 900.0
 READY = "bench ready"       # what the echo and the stand-ins print once they are
+RESEND_SEC = 0.5            # the stand-in world: no command for this long, send again
+COMPOSED = "--composed-child"   # runs composed_main (the composed measurements)
 
 
 def echo_main() -> int:
@@ -86,37 +96,52 @@ def paper_cycle_messages(n_envs: int) -> tuple[dict[str, bytes], bytes]:
     return wire.encoded(), command.encode(1, 0, motor)
 
 
-def stand_in_main(role: str, n_envs: int) -> int:
-    """A world or controller that only passes messages: the world answers every command with
-    the same three sensor messages, the controller answers every complete set of three with the
-    same command."""
-    import rclpy
+def stand_in(node, role: str, n_envs: int, running=lambda: True) -> None:
+    """Make ``node`` a world or controller that only passes messages: the world answers every
+    command with the same three sensor messages, the controller answers every complete set of
+    three with the same command. The world starts their chain of messages, and starts it again
+    whenever no command came for RESEND_SEC (as world_node sends a cycle again: a message sent
+    before both sides of a topic have matched is lost); all while running()."""
     from econet_ros.nodes import graph as common
-    from econet_ros.nodes.runner import make_executor, spin
     from econet_ros.topics import COMMAND, SENSORS
 
-    rclpy.init()
-    node = rclpy.create_node(f"bench_{role}")
     sensors, command = paper_cycle_messages(n_envs)
     if role == "world":
         pubs = {part: common.publisher(node, part) for part in SENSORS}
+        sent = [0.0]
 
-        def on_command(_data: bytes) -> None:
+        def publish() -> None:
+            sent[0] = time.monotonic()
             for part in SENSORS:
                 pubs[part].publish(sensors[part])
-        common.subscription(node, COMMAND, on_command, raw=True)
-    else:
-        pub = common.publisher(node, COMMAND)
-        heard = dict.fromkeys(SENSORS, 0)
-        answered = [0]
 
-        def on_part(part: str) -> None:
-            heard[part] += 1
-            if min(heard.values()) > answered[0]:
-                answered[0] += 1
-                pub.publish(command)
-        for part in SENSORS:
-            common.subscription(node, part, lambda _data, part=part: on_part(part), raw=True)
+        def start_again() -> None:
+            if running() and time.monotonic() - sent[0] > RESEND_SEC:
+                publish()
+        common.subscription(node, COMMAND, lambda _data: running() and publish(), raw=True)
+        node.create_timer(RESEND_SEC / 5, start_again)
+        return
+    pub = common.publisher(node, COMMAND)
+    heard = dict.fromkeys(SENSORS, 0)
+    answered = [0]
+
+    def on_part(part: str) -> None:
+        heard[part] += 1
+        if min(heard.values()) > answered[0]:
+            answered[0] += 1
+            pub.publish(command)
+    for part in SENSORS:
+        common.subscription(node, part, lambda _data, part=part: on_part(part), raw=True)
+
+
+def stand_in_main(role: str, n_envs: int) -> int:
+    """A stand-in world or controller (stand_in) as a process of its own."""
+    import rclpy
+    from econet_ros.nodes.runner import make_executor, spin
+
+    rclpy.init()
+    node = rclpy.create_node(f"bench_{role}")
+    stand_in(node, role, n_envs)
     print(READY, flush=True)
     try:
         spin(node, make_executor())
@@ -133,17 +158,9 @@ def messaging_alone(executor, node, n: int) -> float:
     touches = []
     listen = common.subscription(node, "touch", lambda _data: touches.append(
         time.perf_counter()), raw=True)
-    kick = common.publisher(node, "muscle_command")
-    spin_until(executor, lambda: kick.get_subscription_count() > 0
-               and node.count_publishers("muscle_command") > 1
-               and node.count_publishers("touch") > 0
-               and node.count_subscribers("retina") > 0,
-               "the stand-in world and controller to match")
-    kick.publish(paper_cycle_messages(1)[1])          # the first command; then they run alone
     spin_until(executor, lambda: len(touches) > n + 50,
                f"{n + 50} cycles of the stand-in world and controller")
     node.destroy_subscription(listen)
-    node.destroy_publisher(kick)
     return (touches[n + 50] - touches[50]) / n
 
 
@@ -211,11 +228,13 @@ def cycle_parts(args, executor, node, n: int = 300) -> list[tuple[str, float, bo
     return parts
 
 
-def start(args: list[str], ready: str) -> subprocess.Popen:
-    """Start a Python process and wait until a line of its output contains ``ready`` (its
-    output is read on, and its last lines are kept for the error message if it fails)."""
+def start(args: list[str], ready: str, env: dict | None = None) -> subprocess.Popen:
+    """Start a Python process (with ``env`` added to the environment) and wait until a line of
+    its output contains ``ready`` (its output is read on, and its last lines are kept for the
+    error message if it fails)."""
     proc = subprocess.Popen([sys.executable, *args], cwd=REPO, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                            env={**os.environ, **(env or {})})
     said_ready, tail = threading.Event(), collections.deque(maxlen=10)
 
     def read() -> None:
@@ -288,6 +307,14 @@ def parse_args() -> argparse.Namespace:
     parser.add_argument("--cycles", type=int, default=100, help="cycles per trial (default 100)")
     parser.add_argument("--round-trips", type=int, default=2000,
                         help="round trips, and cycles of messaging alone, to time (default 2000)")
+    parser.add_argument("--apart-env", action="append", default=[], metavar="'NAME=VALUE ...'",
+                        help="also time the three-process graph with world and controller "
+                             "started with these environment variables (repeatable), e.g. "
+                             "NUMBA_THREADING_LAYER=workqueue")
+    parser.add_argument("--composed-env", action="append", default=[],
+                        metavar="'NAME=VALUE ...'",
+                        help="also time the composed graph in a process started with these "
+                             "environment variables (repeatable)")
     parser.add_argument("--run-generations", type=int, default=200,
                         help="generations of the projected whole run (default: the paper's 200)")
     args = parser.parse_args()
@@ -322,15 +349,12 @@ def in_process(args) -> tuple[float, list, object]:
     return statistics.median(times), fitness, genomes
 
 
-def through_graph(args, executor, genomes, expected) -> float:
-    """Median seconds of a generation through world_node and controller_node (this process
-    as the supervisor), each checked against the in-process fitness."""
+def through_graph(args, sup, genomes, expected) -> float:
+    """Median seconds of a generation through the world and controller nodes (``sup``, a
+    SupervisorNode of this process, as the supervisor), each checked against the in-process
+    fitness."""
     import numpy as np
-    from econet_ros.nodes.supervisor_node import SupervisorNode
 
-    sup = SupervisorNode()
-    sup.evaluator.executor = executor
-    executor.add_node(sup)
     sup.evaluator.wait_for_graph()
     sup.evaluator.test_generation(genomes, 1, 1, 0)    # warm up (first big messages)
     times = []
@@ -342,6 +366,80 @@ def through_graph(args, executor, genomes, expected) -> float:
             raise SystemExit(f"bench_graph: error: generation {g}: graph fitness differs "
                              "from the in-process engine")
     return statistics.median(times)
+
+
+def supervisor(executor):
+    """This process as the supervisor (parameters from rclpy.init's global arguments)."""
+    from econet_ros.nodes.supervisor_node import SupervisorNode
+
+    sup = SupervisorNode()
+    sup.evaluator.executor = executor
+    executor.add_node(sup)
+    return sup
+
+
+def apart(args, sup, genomes, expected, env: dict) -> float:
+    """through_graph with world_node and controller_node as processes started with ``env``."""
+    procs = [start(["-m", f"econet_ros.nodes.{role}_node"], f"{role} ready", env)
+             for role in ("world", "controller")]
+    try:
+        return through_graph(args, sup, genomes, expected)
+    finally:
+        stop(procs)
+
+
+def composed_main() -> int:
+    """The composed measurements, in a process of their own that starts as graph_node does
+    (econet_ros.nodes imported first: OpenMP workers that sleep): messaging alone between a
+    stand-in world and controller that are nodes of this process, then the generation through
+    a WorldNode, a ControllerNode and a SupervisorNode of this process, all on one executor.
+    Prints them as one JSON line."""
+    import econet_ros.nodes  # noqa: F401 - before any kernel runs, as in graph_node
+    import rclpy
+    from econet_ros.nodes.controller_node import ControllerNode
+    from econet_ros.nodes.runner import make_executor
+    from econet_ros.nodes.world_node import WorldNode
+
+    sys.argv.remove(COMPOSED)
+    args = parse_args()
+    t_in, expected, genomes = in_process(args)
+    rclpy.init(args=init_args(args))
+    executor = make_executor()
+    node = rclpy.create_node("bench_ping")
+    executor.add_node(node)
+    stand_ins, running = [], threading.Event()
+    running.set()
+    for role in ("world", "controller"):
+        stand_ins.append(rclpy.create_node(f"bench_{role}"))
+        stand_in(stand_ins[-1], role, args.population * args.trials, running.is_set)
+        executor.add_node(stand_ins[-1])
+    t_msg = messaging_alone(executor, node, args.round_trips)
+    running.clear()                               # their chain of messages ends
+    deadline = time.monotonic() + 0.5
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    for stand_in_node in stand_ins:
+        executor.remove_node(stand_in_node)
+        stand_in_node.destroy_node()
+    for make in (WorldNode, ControllerNode):      # their own defaults, not the supervisor's
+        executor.add_node(make(use_global_arguments=False))
+    t_graph = through_graph(args, supervisor(executor), genomes, expected)
+    print(json.dumps({"in_process": t_in, "messaging": t_msg, "graph": t_graph}), flush=True)
+    rclpy.try_shutdown()
+    return 0
+
+
+def composed(env: dict) -> dict:
+    """composed_main's figures (seconds), run as a child process with ``env`` added to the
+    environment."""
+    domain = str(int(os.environ["ROS_DOMAIN_ID"]) % 200 + 1)    # away from what ran here
+    proc = subprocess.run([sys.executable, __file__, COMPOSED, *sys.argv[1:]], cwd=REPO,
+                          capture_output=True, text=True, timeout=READY_TIMEOUT_SEC,
+                          env={**os.environ, **env, "ROS_DOMAIN_ID": domain})
+    if proc.returncode != 0:
+        raise SystemExit(f"bench_graph: error: the composed measurement failed:\n"
+                         f"{proc.stdout[-2000:]}{proc.stderr[-2000:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
 def report(args, t_in: float, rtt: list[float], t_msg: float, t_graph: float,
@@ -384,11 +482,50 @@ def report(args, t_in: float, rtt: list[float], t_msg: float, t_graph: float,
           "cold caches, kernel launches, scheduling of three processes on the CPUs)")
 
 
+def report_tried(args, floor: float, tried: list) -> None:
+    """The three-process graph with each --apart-env environment, against the same floor."""
+    for env, seconds in tried:
+        print(f"graph with {env:<42}{seconds * 1000:8.1f} ms  {seconds / floor:.2f}x the floor")
+
+
+def report_composed(args, t_in: float, one: dict, env: str) -> None:
+    """The composed graph (its process started with ``env``) against its own floor: the
+    in-process generation plus the four lockstep messages passed between nodes of one
+    process."""
+    ms = 1000.0
+    t_msg, t_graph = one["messaging"], one["graph"]
+    floor = t_in + args.cycles * t_msg
+    print(f"\ncomposed (world, controller and supervisor nodes in one process, one executor"
+          f"{'; with ' + env if env else ''}):")
+    print(f"messaging alone in one process {t_msg * args.cycles * ms:8.1f} ms  ({args.cycles} x "
+          f"{t_msg * ms:.3f} ms; mean of {args.round_trips} cycles)")
+    print(f"composed generation            {t_graph * ms:8.1f} ms  (median of "
+          f"{args.generations}; fitness identical to in-process; in-process in that process, "
+          f"OpenMP workers asleep between kernels: {one['in_process'] * ms:.1f} ms)")
+    print(f"composed floor = in-process + messaging in one process = {floor * ms:.1f} ms; "
+          f"composed is {t_graph / floor:.2f}x its floor")
+    print(f"composed / in-process = {t_graph / t_in:.2f}x: target 1.5x "
+          f"{'MET' if t_graph <= 1.5 * t_in else 'MISSED'}")
+
+
+def environment(variables: str) -> dict:
+    """{NAME: VALUE} of 'NAME=VALUE NAME=VALUE ...'."""
+    return dict(item.split("=", 1) for item in variables.split())
+
+
+def init_args(args) -> list[str]:
+    """rclpy's arguments here: the supervisor's parameters (sizes, an unused out)."""
+    return ["bench", "--ros-args", "-p", "out:=/tmp/econet-bench-unused",
+            *[x for k, v in args.sizes.items() for x in ("-p", f"{k}:={v}")]]
+
+
 def main() -> int:
     if "--echo" in sys.argv:
         return echo_main()
     if "--stand-in" in sys.argv:
         return stand_in_main(sys.argv[2], int(sys.argv[3]))
+    if COMPOSED in sys.argv:
+        return composed_main()
     args = parse_args()
     os.environ.setdefault("ROS_DOMAIN_ID", str(random.randint(120, 200)))
     import rclpy
@@ -397,11 +534,11 @@ def main() -> int:
     n_envs = args.population * args.trials
     print(f"generation: {args.population} econets x {args.trials} trials = {n_envs} "
           f"environments x {args.cycles} cycles; {os.cpu_count()} CPUs; executor "
-          f"{os.environ.get('ECONET_EXECUTOR', 'events')}")
+          f"{os.environ.get('ECONET_EXECUTOR', 'events')}; load average "
+          f"{os.getloadavg()[0]:.2f}", flush=True)
     t_in, expected, genomes = in_process(args)
     procs = []
-    rclpy.init(args=["bench", "--ros-args", "-p", "out:=/tmp/econet-bench-unused",
-                     *[x for k, v in args.sizes.items() for x in ("-p", f"{k}:={v}")]])
+    rclpy.init(args=init_args(args))
     try:
         executor = make_executor()
         procs.append(start([__file__, "--echo"], READY))
@@ -414,13 +551,21 @@ def main() -> int:
                     for role in ("world", "controller")]
         t_msg = messaging_alone(executor, node, args.round_trips)
         stop(procs)
-        procs[:] = [start(["-m", f"econet_ros.nodes.{role}_node"], f"{role} ready")
-                    for role in ("world", "controller")]
-        t_graph = through_graph(args, executor, genomes, expected)
+        sup = supervisor(executor)
+        t_graph = apart(args, sup, genomes, expected, {})
+        tried = [(env, apart(args, sup, genomes, expected, environment(env)))
+                 for env in args.apart_env]
+        if tried:       # the default once more: how far the machine drifted meanwhile
+            tried.append(("(the default again)", apart(args, sup, genomes, expected, {})))
     finally:
         stop(procs)
         rclpy.try_shutdown()
+    ones = [(env, composed(environment(env))) for env in ["", *args.composed_env]]
     report(args, t_in, rtt, t_msg, t_graph, parts)
+    report_tried(args, t_in + args.cycles * t_msg, tried)
+    for env, one in ones:
+        report_composed(args, t_in, one, env)
+    print(f"load average at the end: {os.getloadavg()[0]:.2f}")
     return 0
 
 
