@@ -252,3 +252,39 @@ def _forward_batch(vision, proprio, touch, weights, block, layers, buffer_size, 
         for m in range(block):
             for u in range(N_MOTOR):
                 out[k * block + m, u] = buffer[k, buffer_size - N_MOTOR + u, m]
+
+
+def transplant(small: FeedForwardNetwork, large: FeedForwardNetwork,
+               weights: np.ndarray) -> np.ndarray:
+    """The weights of ``small`` laid out for ``large``, a network of the same layers, each at
+    least as wide: every unit of small becomes the unit of the same rank in its layer of large,
+    keeps the weights from the inputs it had, and every weight small does not have is exactly
+    zero, so that large computes exactly what small does (an added unit's output, 0.5, reaches
+    nothing). Works on a flat vector or a batch (k, small.n_params)."""
+    if small.layers.shape != large.layers.shape or small.layers[0, 0] != large.layers[0, 0]:
+        raise ValueError("transplant needs two networks of the same layers and inputs")
+    if (np.diff(small.layers[:, 2:]) > np.diff(large.layers[:, 2:])).any():
+        raise ValueError("every layer of the large network must be at least as wide")
+    where = np.arange(small.buffer_size)      # small's buffer rows in large's (inputs stay)
+    for (_, _, s_out, s_stop), (_, _, l_out, _) in zip(small.layers, large.layers):
+        where[s_out:s_stop] = np.arange(s_stop - s_out) + l_out
+    weights = np.asarray(weights, dtype=np.float64)
+    moved = np.zeros((*weights.shape[:-1], large.n_params))
+    source, target = _layer_offsets(small), _layer_offsets(large)
+    for layer, (s_in, s_stop, s_out, s_end) in enumerate(small.layers):
+        l_in, l_stop = large.layers[layer, :2]
+        reads = where[s_in:s_stop]
+        if (reads < l_in).any() or (reads >= l_stop).any():
+            raise ValueError(f"layer {layer} of the large network does not read the same inputs")
+        for unit in range(s_end - s_out):
+            first = source[layer] + unit * (s_stop - s_in)
+            start = target[layer] + unit * (l_stop - l_in)
+            moved[..., start + reads - l_in] = weights[..., first:first + s_stop - s_in]
+    return moved
+
+
+def _layer_offsets(network: FeedForwardNetwork) -> np.ndarray:
+    """Where each layer's weights start in the flat vector."""
+    counts = (network.layers[:, 1] - network.layers[:, 0]) * (network.layers[:, 3]
+                                                              - network.layers[:, 2])
+    return np.concatenate([[0], np.cumsum(counts)[:-1]])
