@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...config import Config
+from ...evolution import InProcessEvaluator, initial_genomes
 from .. import holding
 from ..claims import RANGE_SHARE
 from ..stats import Estimate, firth_logistic, holm, paired, share, share_difference
@@ -21,6 +23,7 @@ from .plan import SweepSpec, values
 LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does not matter (H3b's)
 SCREEN_MARGIN = RANGE_SHARE   # E2-S: a share's margin, 5% of its range
 SHARE_GAP_MARGIN = 0.25   # E3-H: the claims' margin for "most runs", three runs in four
+SCREEN_POPULATION = 200   # E2-S: random genomes per seed (a multiple of the 20 parents)
 FEWEST_SOURCES = 5        # E2-T is not judged on fewer holding champions
 RESAMPLES = 2000          # the seed-cluster bootstrap's resamples
 BOOTSTRAP = "Firth, seed-cluster bootstrap"
@@ -97,6 +100,22 @@ def e1_range(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> d
 
 
 # -- E2: the screen, the transplant, the onset ------------------------------------------------
+def screen_genomes(config: Config, seeds, population: int = SCREEN_POPULATION) -> np.ndarray:
+    """Whether each random genome that reaches holds (1.0) or brushes (0.0), no evolution: per
+    seed, the first generation a run of that seed (run 1) with ``population`` econets draws,
+    each scored on that generation's trials; a genome holds by the run's rule (at most one
+    separation per successful trial over its trials)."""
+    config = config.replace(**{"evolution.population": population})
+    evaluator = InProcessEvaluator(config)
+    flags = []
+    for seed in seeds:
+        genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
+        m = evaluator.test_generation(genomes, seed, 1, 0).measures
+        ratios = [holding.per_success(sep, hit) for sep, hit in zip(m.separations, m.success)]
+        flags += [float(holding.kind(r) == holding.HOLDS) for r in ratios if np.isfinite(r)]
+    return np.array(flags)
+
+
 def screen(large: np.ndarray, small: np.ndarray) -> dict[str, Criterion]:
     """E2-S on the random genomes that reach (1.0: holds, 0.0: brushes): the large net's
     holding share minus the small net's, predicted < 0 (holding must be found)."""

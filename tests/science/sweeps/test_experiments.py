@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from econet_ros.config import Config
 from econet_ros.plugins import make_controller
 from econet_ros.science.sweeps import experiments
 from econet_ros.science.sweeps.rules import RULES, Swept, family_markdown, rule_of
@@ -170,3 +171,14 @@ def test_every_experiment_rule_is_registered_and_its_table_lists_its_hypotheses(
     text = "\n".join(family_markdown([Swept(ONSET, rows)],
                                      experiments.transplant([1.0] * 6)))
     assert "| E2-T |" in text and "| E2-O |" in text and "Holm p" in text
+
+
+def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
+    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
+                                 "evolution.parents": 10})
+    a = experiments.screen_genomes(config, [9201], population=20)
+    b = experiments.screen_genomes(config, [9201], population=20)
+    assert np.array_equal(a, b) and 0 < len(a) <= 20     # only the genomes that reach
+    assert set(a.tolist()) == {0.0, 1.0}                  # these 20 both hold and brush
+    two = experiments.screen_genomes(config, [9201, 9202], population=20)
+    assert np.array_equal(two[:len(a)], a)                # a seed's genomes do not move
