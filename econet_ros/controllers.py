@@ -74,9 +74,13 @@ class FeedForwardNetwork(Controller):
     """Logistic feed-forward network whose layers each read one contiguous slice of an
     activation buffer laid out as [inputs, layer 1, layer 2, ...]."""
 
-    def __init__(self, n_envs: int, config: Config, layers: list[tuple[int, int, int]]):
-        """layers: (input start, input end, units) per layer; units append to the buffer."""
+    def __init__(self, n_envs: int, config: Config, layers: list[tuple[int, int, int]],
+                 wired: np.ndarray | None = None):
+        """layers: (input start, input end, units) per layer; units append to the buffer.
+        wired: the positions of the layers' flat weight vector that the parameters fill, in
+        order (the others stay zero: connections a unit lacks); None: all of them."""
         super().__init__(n_envs, config)
+        self.wired = wired
         n_inputs = config.model.visual_units + N_PROPRIO + 1
         spans, end, n_weights = [], n_inputs, 0
         for start, stop, units in layers:
@@ -91,7 +95,7 @@ class FeedForwardNetwork(Controller):
 
     @property
     def n_params(self) -> int:
-        return self._n_weights
+        return self._n_weights if self.wired is None else len(self.wired)
 
     def weights_reading(self, sense: str) -> np.ndarray:
         """Bool mask over the flat weight vector: True for every weight that reads one of the
@@ -107,7 +111,8 @@ class FeedForwardNetwork(Controller):
         for start, end, out_start, out_stop in self.layers:   # unit by unit, as forward_block
             reads = np.arange(start, end)                     # the buffer rows a unit reads
             mask.append(np.tile((reads >= first) & (reads < stop), out_stop - out_start))
-        return np.concatenate(mask)
+        mask = np.concatenate(mask)
+        return mask if self.wired is None else mask[self.wired]
 
     def load(self, params: np.ndarray, noise_seed: int = 0) -> None:
         params = np.asarray(params, dtype=np.float64)
@@ -115,6 +120,10 @@ class FeedForwardNetwork(Controller):
                 self.n_envs % params.shape[0]:
             raise ValueError(f"expected weights of shape (k, {self.n_params}) with k dividing "
                              f"{self.n_envs} environments, got {params.shape}")
+        if self.wired is not None:
+            full = np.zeros((params.shape[0], self._n_weights))
+            full[:, self.wired] = params
+            params = full
         self.weights = np.ascontiguousarray(params)
         self.block = self.n_envs // params.shape[0]
 
@@ -148,19 +157,40 @@ class FeedForwardNetwork(Controller):
 
 
 class FourLayerNetwork(FeedForwardNetwork):
-    """The paper's network: intramodal visual and proprioceptive layers, then intermodal."""
+    """The paper's network: intramodal visual and proprioceptive layers, then intermodal.
+    Scrambled (network.first_layer_wiring), the first two layers read all vision and
+    proprioception inputs, but each unit has weights only from a random subset of them of the
+    size it reads when modular (scrambled_wiring): the same units and weight count, the senses
+    mixed."""
 
     def __init__(self, n_envs: int, config: Config):
         vis, net = config.model.visual_units, config.network
         touch = vis + N_PROPRIO                      # index of the touch input
         hidden_end = touch + 1 + net.visual_hidden + net.proprio_hidden
+        scrambled = net.first_layer_wiring == "scrambled"
         super().__init__(n_envs, config, [
-            (0, vis, net.visual_hidden),
-            (vis, touch, net.proprio_hidden),
+            (0, touch if scrambled else vis, net.visual_hidden),
+            (0 if scrambled else vis, touch, net.proprio_hidden),
             # touch and both intramodal layers lie side by side in the buffer
             (touch, hidden_end, net.intermodal_hidden),
             (hidden_end, hidden_end + net.intermodal_hidden, N_MOTOR),
-        ])
+        ], scrambled_wiring(config) if scrambled else None)
+
+
+def scrambled_wiring(config: Config) -> np.ndarray:
+    """The weight positions a scrambled four-layer net fills in its layers' flat vector: each
+    visual hidden unit reads visual_units, each proprioceptive one N_PROPRIO of the vision and
+    proprioception inputs, a subset drawn without repeats per unit from network.wiring_seed
+    and read in input order; every later weight as in the modular net."""
+    vis, net = config.model.visual_units, config.network
+    senses = vis + N_PROPRIO
+    rng = np.random.default_rng(net.wiring_seed)
+    sizes = [vis] * net.visual_hidden + [N_PROPRIO] * net.proprio_hidden
+    first = [unit * senses + np.sort(rng.choice(senses, size, replace=False))
+             for unit, size in enumerate(sizes)]
+    start = senses * len(sizes)
+    later = (1 + net.visual_hidden + net.proprio_hidden + N_MOTOR) * net.intermodal_hidden
+    return np.concatenate([*first, np.arange(start, start + later)])
 
 
 class ThreeLayerNetwork(FeedForwardNetwork):
