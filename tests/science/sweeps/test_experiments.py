@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 from econet_ros.config import Config
+from econet_ros.errors import ConfigError
 from econet_ros.plugins import make_controller
 from econet_ros.science.sweeps import experiments
+from econet_ros.science.sweeps.plan import SweepSpec
 from econet_ros.science.sweeps.rules import RULES, Swept, family_markdown, rule_of
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, NOT_JUDGED, REPLICATES, REVERSED
@@ -18,6 +20,7 @@ SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
 WIDTH = load_spec(SPECS / "e1-width.toml")
 RANGE = load_spec(SPECS / "e1-range.toml")
 ONSET = load_spec(SPECS / "e2-onset-long.toml")
+MODULARITY = load_spec(SPECS / "e3-modularity.toml")
 RESAMPLES = 200          # enough to place a bootstrap interval in a test
 
 
@@ -120,27 +123,10 @@ def test_the_onset_rule_reads_the_large_cell_its_spec_names():
     assert found["E2-O"].judged == REPLICATES and found["E2-O"].interval.n == 20
 
 
-def e3_spec(tmp_path):
-    """E3's cells with the scrambled cell standing in as a plain 2/2/4 (the rule reads only
-    the rows)."""
-    text = (SPECS / "e1-width.toml").read_text().split("[cells.")[0].replace(
-        '[rule]\nname = "e1-width"\n', '[rule]\nname = "e3-modularity"\nmodular = "modular"\n'
-        'scrambled = "scrambled"\nthree = "three-4"\n', 1)
-    body = '{"network.visual_hidden" = 2, "network.proprio_hidden" = 2, ' \
-           '"network.intermodal_hidden" = 4}'
-    text += "".join(f'\n[cells.{name}]\nset = {body}\nconditions = ["normal"]\n'
-                    for name in ("modular", "scrambled"))
-    text += '\n[cells.three-4]\nset = {"network.three_layer_hidden" = 4}\n' \
-            'conditions = ["three-layer"]\n'
-    path = tmp_path / "e3.toml"
-    path.write_text(text)
-    return load_spec(path)
-
-
 @pytest.mark.parametrize("scrambled_holds, e3_m", [(0.1, REPLICATES), (0.9, ABSENT)])
 def test_e3_replicates_when_scrambling_hurts_and_is_absent_when_it_does_not(
-        tmp_path, scrambled_holds, e3_m):
-    spec = e3_spec(tmp_path)
+        scrambled_holds, e3_m):
+    spec = MODULARITY
     rows = rows_for(spec, lambda c, cond, w: 0.0, fitness=lambda cell, held: {
         "modular": 600.0, "scrambled": 600.0 if scrambled_holds > 0.5 else 200.0}.get(cell, 200.0))
     for r in rows:          # holding as built: modular 90%, scrambled as asked, three-layer none
@@ -150,6 +136,26 @@ def test_e3_replicates_when_scrambling_hurts_and_is_absent_when_it_does_not(
     found = judged(rule_of(spec).criteria(Swept(spec, rows)))
     assert found["E3-M"] == e3_m
     assert found["E3-T"] == REPLICATES
+
+
+def test_the_scrambled_cell_draws_its_wiring_from_each_run_seed_and_keeps_it_when_stored():
+    scrambled = [r for r in MODULARITY.runs() if r.cell == "scrambled"]
+    assert [r.config.network.wiring_seed for r in scrambled] == list(range(9301, 9361))
+    assert all(r.config.network.first_layer_wiring == "scrambled" for r in scrambled)
+    assert all(r.config.network.wiring_seed == 0 for r in MODULARITY.runs()
+               if r.cell != "scrambled")
+    again = SweepSpec.from_dict(MODULARITY.to_dict())
+    assert [r.config for r in again.runs()] == [r.config for r in MODULARITY.runs()]
+    assert "seeded" not in WIDTH.to_dict()["cells"][0]    # stored as before without it
+
+
+def test_a_cell_cannot_both_set_and_seed_a_setting(tmp_path):
+    text = (SPECS / "e3-modularity.toml").read_text().replace(
+        '"network.first_layer_wiring" = "scrambled"}',
+        '"network.first_layer_wiring" = "scrambled", "network.wiring_seed" = 3}')
+    (tmp_path / "both.toml").write_text(text)
+    with pytest.raises(ConfigError, match="both sets and seeds network.wiring_seed"):
+        load_spec(tmp_path / "both.toml")
 
 
 def test_holm_runs_over_the_registered_family_and_can_only_withhold_a_verdict():
