@@ -24,6 +24,15 @@ LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does n
 SCREEN_MARGIN = RANGE_SHARE   # E2-S: a share's margin, 5% of its range
 SHARE_GAP_MARGIN = 0.25   # E3-H: the claims' margin for "most runs", three runs in four
 SCREEN_POPULATION = 200   # E2-S: random genomes per seed (a multiple of the 20 parents)
+SCREEN_SEEDS = tuple(range(9201, 9211))
+SCREENED = {"2/2/4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
+                      "network.intermodal_hidden": 4},
+            "4/4/8": {"network.visual_hidden": 4, "network.proprio_hidden": 4,
+                      "network.intermodal_hidden": 8},
+            "three-layer 4": {"evolution.condition": "three-layer",
+                              "network.three_layer_hidden": 4},
+            "three-layer 8": {"evolution.condition": "three-layer",
+                              "network.three_layer_hidden": 8}}
 FEWEST_SOURCES = 5        # E2-T is not judged on fewer holding champions
 RESAMPLES = 2000          # the seed-cluster bootstrap's resamples
 BOOTSTRAP = "Firth, seed-cluster bootstrap"
@@ -122,6 +131,25 @@ def screen(large: np.ndarray, small: np.ndarray) -> dict[str, Criterion]:
     gap = share_difference(large, small)
     return {"E2-S": Criterion("holding share of random genomes, 4/4/8 - 2/2/4", gap, high=0.0,
                               margin=SCREEN_MARGIN, null=True)}
+
+
+def screen_all(base: Config | None = None, seeds=SCREEN_SEEDS,
+               population: int = SCREEN_POPULATION) -> dict[str, np.ndarray]:
+    """The registered screen: every architecture of SCREENED on the same seeds."""
+    base = base or Config()
+    return {name: screen_genomes(base.replace(**changes), seeds, population)
+            for name, changes in SCREENED.items()}
+
+
+def screen_markdown(flags: dict[str, np.ndarray]) -> list[str]:
+    """The screen's shares per architecture, E2-S and, beside it, three-layer 8 - 4."""
+    lines = ["| network | random genomes that reach | of them hold [95% CI, Clopper-Pearson] |",
+             "|---|---|---|"]
+    lines += [f"| {name} | {len(f)} | {share(f).text(3)} |" for name, f in flags.items()]
+    three = share_difference(flags["three-layer 8"], flags["three-layer 4"])
+    e2_s = screen(flags["4/4/8"], flags["2/2/4"])["E2-S"]
+    return lines + ["", f"E2-S: {e2_s.text(four=True)}.",
+                    f"Beside it, three-layer 8 - 4: {three.text(3)} ({three.method})."]
 
 
 def most_hold(what: str, flags) -> Criterion:

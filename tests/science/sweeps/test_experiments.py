@@ -188,3 +188,13 @@ def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
     assert set(a.tolist()) == {0.0, 1.0}                  # these 20 both hold and brush
     two = experiments.screen_genomes(config, [9201, 9202], population=20)
     assert np.array_equal(two[:len(a)], a)                # a seed's genomes do not move
+
+
+def test_the_registered_screen_covers_four_architectures_and_reports_e2_s():
+    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
+                                 "evolution.parents": 10})
+    flags = experiments.screen_all(config, seeds=[9201], population=20)
+    assert list(flags) == ["2/2/4", "4/4/8", "three-layer 4", "three-layer 8"]
+    text = "\n".join(experiments.screen_markdown(flags))
+    assert "E2-S: holding share of random genomes, 4/4/8 - 2/2/4" in text
+    assert experiments.SCREEN_SEEDS == tuple(range(9201, 9211))
