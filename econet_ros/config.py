@@ -25,6 +25,7 @@ SHOULDER_CONVENTIONS = ("centred", "forward")
 ANGLE_STEPS = ("continuous", "round", "truncate")   # world.move's moves per cycle
 JOINT_LIMITS = ("clip", "cancel")
 OPTIMIZERS = ("ga", "cmaes", "es")                  # optimizers.py
+WIRINGS = ("modular", "scrambled")                  # controllers.FourLayerNetwork
 
 
 def setting(default: Any, help: str, *, paper: bool = False, choices: tuple | None = None,
@@ -98,6 +99,14 @@ class NetworkConfig:
                                      "8)", low=1, high=256)
     three_layer_hidden: int = setting(8, "three-layer net: hidden units ('eight units')",
                                       paper=True, low=1, high=256)
+    first_layer_wiring: str = setting("modular", "four-layer net: 'modular' (the paper: visual "
+                                      "hidden units read vision, proprioceptive ones "
+                                      "proprioception) or 'scrambled' (the same units and "
+                                      "weights, each unit reading a random subset of the same "
+                                      "size of all vision and proprioception inputs, drawn from "
+                                      "wiring_seed)", choices=WIRINGS, added=True)
+    wiring_seed: int = setting(0, "four-layer net: the seed a scrambled wiring is drawn from",
+                               low=0, added=True)
 
 
 @dataclass(frozen=True)

@@ -74,9 +74,13 @@ class FeedForwardNetwork(Controller):
     """Logistic feed-forward network whose layers each read one contiguous slice of an
     activation buffer laid out as [inputs, layer 1, layer 2, ...]."""
 
-    def __init__(self, n_envs: int, config: Config, layers: list[tuple[int, int, int]]):
-        """layers: (input start, input end, units) per layer; units append to the buffer."""
+    def __init__(self, n_envs: int, config: Config, layers: list[tuple[int, int, int]],
+                 wired: np.ndarray | None = None):
+        """layers: (input start, input end, units) per layer; units append to the buffer.
+        wired: the positions of the layers' flat weight vector that the parameters fill, in
+        order (the others stay zero: connections a unit lacks); None: all of them."""
         super().__init__(n_envs, config)
+        self.wired = wired
         n_inputs = config.model.visual_units + N_PROPRIO + 1
         spans, end, n_weights = [], n_inputs, 0
         for start, stop, units in layers:
@@ -91,7 +95,7 @@ class FeedForwardNetwork(Controller):
 
     @property
     def n_params(self) -> int:
-        return self._n_weights
+        return self._n_weights if self.wired is None else len(self.wired)
 
     def weights_reading(self, sense: str) -> np.ndarray:
         """Bool mask over the flat weight vector: True for every weight that reads one of the
@@ -107,7 +111,8 @@ class FeedForwardNetwork(Controller):
         for start, end, out_start, out_stop in self.layers:   # unit by unit, as forward_block
             reads = np.arange(start, end)                     # the buffer rows a unit reads
             mask.append(np.tile((reads >= first) & (reads < stop), out_stop - out_start))
-        return np.concatenate(mask)
+        mask = np.concatenate(mask)
+        return mask if self.wired is None else mask[self.wired]
 
     def load(self, params: np.ndarray, noise_seed: int = 0) -> None:
         params = np.asarray(params, dtype=np.float64)
@@ -115,6 +120,10 @@ class FeedForwardNetwork(Controller):
                 self.n_envs % params.shape[0]:
             raise ValueError(f"expected weights of shape (k, {self.n_params}) with k dividing "
                              f"{self.n_envs} environments, got {params.shape}")
+        if self.wired is not None:
+            full = np.zeros((params.shape[0], self._n_weights))
+            full[:, self.wired] = params
+            params = full
         self.weights = np.ascontiguousarray(params)
         self.block = self.n_envs // params.shape[0]
 
@@ -148,19 +157,40 @@ class FeedForwardNetwork(Controller):
 
 
 class FourLayerNetwork(FeedForwardNetwork):
-    """The paper's network: intramodal visual and proprioceptive layers, then intermodal."""
+    """The paper's network: intramodal visual and proprioceptive layers, then intermodal.
+    Scrambled (network.first_layer_wiring), the first two layers read all vision and
+    proprioception inputs, but each unit has weights only from a random subset of them of the
+    size it reads when modular (scrambled_wiring): the same units and weight count, the senses
+    mixed."""
 
     def __init__(self, n_envs: int, config: Config):
         vis, net = config.model.visual_units, config.network
         touch = vis + N_PROPRIO                      # index of the touch input
         hidden_end = touch + 1 + net.visual_hidden + net.proprio_hidden
+        scrambled = net.first_layer_wiring == "scrambled"
         super().__init__(n_envs, config, [
-            (0, vis, net.visual_hidden),
-            (vis, touch, net.proprio_hidden),
+            (0, touch if scrambled else vis, net.visual_hidden),
+            (0 if scrambled else vis, touch, net.proprio_hidden),
             # touch and both intramodal layers lie side by side in the buffer
             (touch, hidden_end, net.intermodal_hidden),
             (hidden_end, hidden_end + net.intermodal_hidden, N_MOTOR),
-        ])
+        ], scrambled_wiring(config) if scrambled else None)
+
+
+def scrambled_wiring(config: Config) -> np.ndarray:
+    """The weight positions a scrambled four-layer net fills in its layers' flat vector: each
+    visual hidden unit reads visual_units, each proprioceptive one N_PROPRIO of the vision and
+    proprioception inputs, a subset drawn without repeats per unit from network.wiring_seed
+    and read in input order; every later weight as in the modular net."""
+    vis, net = config.model.visual_units, config.network
+    senses = vis + N_PROPRIO
+    rng = np.random.default_rng(net.wiring_seed)
+    sizes = [vis] * net.visual_hidden + [N_PROPRIO] * net.proprio_hidden
+    first = [unit * senses + np.sort(rng.choice(senses, size, replace=False))
+             for unit, size in enumerate(sizes)]
+    start = senses * len(sizes)
+    later = (1 + net.visual_hidden + net.proprio_hidden + N_MOTOR) * net.intermodal_hidden
+    return np.concatenate([*first, np.arange(start, start + later)])
 
 
 class ThreeLayerNetwork(FeedForwardNetwork):
@@ -252,3 +282,39 @@ def _forward_batch(vision, proprio, touch, weights, block, layers, buffer_size, 
         for m in range(block):
             for u in range(N_MOTOR):
                 out[k * block + m, u] = buffer[k, buffer_size - N_MOTOR + u, m]
+
+
+def transplant(small: FeedForwardNetwork, large: FeedForwardNetwork,
+               weights: np.ndarray) -> np.ndarray:
+    """The weights of ``small`` laid out for ``large``, a network of the same layers, each at
+    least as wide: every unit of small becomes the unit of the same rank in its layer of large,
+    keeps the weights from the inputs it had, and every weight small does not have is exactly
+    zero, so that large computes exactly what small does (an added unit's output, 0.5, reaches
+    nothing). Works on a flat vector or a batch (k, small.n_params)."""
+    if small.layers.shape != large.layers.shape or small.layers[0, 0] != large.layers[0, 0]:
+        raise ValueError("transplant needs two networks of the same layers and inputs")
+    if (np.diff(small.layers[:, 2:]) > np.diff(large.layers[:, 2:])).any():
+        raise ValueError("every layer of the large network must be at least as wide")
+    where = np.arange(small.buffer_size)      # small's buffer rows in large's (inputs stay)
+    for (_, _, s_out, s_stop), (_, _, l_out, _) in zip(small.layers, large.layers):
+        where[s_out:s_stop] = np.arange(s_stop - s_out) + l_out
+    weights = np.asarray(weights, dtype=np.float64)
+    moved = np.zeros((*weights.shape[:-1], large.n_params))
+    source, target = _layer_offsets(small), _layer_offsets(large)
+    for layer, (s_in, s_stop, s_out, s_end) in enumerate(small.layers):
+        l_in, l_stop = large.layers[layer, :2]
+        reads = where[s_in:s_stop]
+        if (reads < l_in).any() or (reads >= l_stop).any():
+            raise ValueError(f"layer {layer} of the large network does not read the same inputs")
+        for unit in range(s_end - s_out):
+            first = source[layer] + unit * (s_stop - s_in)
+            start = target[layer] + unit * (l_stop - l_in)
+            moved[..., start + reads - l_in] = weights[..., first:first + s_stop - s_in]
+    return moved
+
+
+def _layer_offsets(network: FeedForwardNetwork) -> np.ndarray:
+    """Where each layer's weights start in the flat vector."""
+    counts = (network.layers[:, 1] - network.layers[:, 0]) * (network.layers[:, 3]
+                                                              - network.layers[:, 2])
+    return np.concatenate([[0], np.cumsum(counts)[:-1]])

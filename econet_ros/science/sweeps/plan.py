@@ -21,6 +21,7 @@ class Cell:
     conditions: tuple[str, ...]
     base: str = ""         # the named cell it was crossed from ("" without named cells)
     levels: tuple = ()     # its factor levels, as (dotted key, value) pairs
+    seeded: tuple = ()     # dotted keys of settings that take each run's seed (drawn per seed)
 
     def matches(self, name: str) -> bool:
         """Whether a comparison's cell name means this cell: its own name, or the named cell
@@ -51,13 +52,15 @@ class SweepSpec:
     description: str = ""
     rule: dict = field(default_factory=dict)    # {} or {"name": a rule (rules.py), its options}
 
-    def config(self, cell: Cell, condition: str) -> Config:
+    def config(self, cell: Cell, condition: str, seed: int = 0) -> Config:
+        """A run's settings (the cell's seeded settings set to the run's seed)."""
         return Config().replace(**self.settings, **cell.changes, **{
-            "evolution.condition": condition, "evolution.generations": self.generations})
+            "evolution.condition": condition, "evolution.generations": self.generations},
+            **{key: seed for key in cell.seeded})
 
     def runs(self) -> list[Run]:
         """Every run, longest first (random movement is the cheapest condition)."""
-        runs = [Run(cell.name, condition, seed, self.config(cell, condition))
+        runs = [Run(cell.name, condition, seed, self.config(cell, condition, seed))
                 for cell in self.cells for condition in cell.conditions for seed in self.seeds]
         return sorted(runs, key=lambda run: run.condition == "random")
 
@@ -70,13 +73,16 @@ class SweepSpec:
                 "behaviour": self.behaviour, "settings": self.settings,
                 "cells": [{"name": c.name, "changes": c.changes,
                            "conditions": list(c.conditions), "base": c.base,
-                           "levels": [list(pair) for pair in c.levels]} for c in self.cells],
+                           "levels": [list(pair) for pair in c.levels],
+                           **({"seeded": list(c.seeded)} if c.seeded else {})}
+                          for c in self.cells],
                 "compare": self.compare, "rule": self.rule}
 
     @classmethod
     def from_dict(cls, data: dict) -> "SweepSpec":
         cells = [Cell(c["name"], c["changes"], tuple(c["conditions"]), c["base"],
-                      tuple(map(tuple, c["levels"]))) for c in data["cells"]]
+                      tuple(map(tuple, c["levels"])), tuple(c.get("seeded", ())))
+                 for c in data["cells"]]
         return cls(data["name"], data["generations"], tuple(data["seeds"]), cells,
                    data["settings"], data["behaviour"], data["compare"], data["description"],
                    data["rule"])

@@ -4,8 +4,8 @@ committed before its sweep ran, `registered = "<commit>"`: the commit that regis
 rule says what its sweep's summary shows (markdown, figures), what it makes of the defaults,
 and what it adds to the study report's architecture section; the report asks the rule and
 never the sweep's name. The rules' arithmetic lives in regime.py (the decision rule of "Finding
-the paper's regime") and confirm.py (the pre-registered rule: H1-H3 and the exploratory
-readings)."""
+the paper's regime"), confirm.py (the pre-registered rule: H1-H3 and the exploratory
+readings) and experiments.py (the pre-registered experiments E1-E3)."""
 from __future__ import annotations
 
 import os
@@ -14,12 +14,14 @@ from pathlib import Path
 
 from ...errors import ConfigError
 from ...provenance import registration
-from . import confirm, regime
+from . import confirm, experiments, regime
 from .figures import LOAD_MAP, load_map_figure
 from .plan import SweepSpec
 
 REGISTERED = "registered"    # a [rule] table's option: the commit that pre-registered the rule
 PREREGISTERED = "## The pre-registered rule (docs/preregistrations.md, \"The confirmatory study\")\n"
+EXPERIMENTS = ("## The pre-registered rule (docs/preregistrations.md, \"Experiments E1-E4 and an "
+               "independent check\")\n")
 
 
 @dataclass(frozen=True)
@@ -168,11 +170,85 @@ class Readings(Rule):
         return [PREREGISTERED, *confirm.readings(sweep.spec, sweep.rows)]
 
 
+class Experiment(Rule):
+    """A rule of the pre-registered experiments: its hypotheses as criteria (experiments.py),
+    shown with their raw four-way verdicts; Holm runs over the whole family
+    (family_markdown)."""
+
+    def criteria(self, sweep: Swept) -> dict:
+        raise NotImplementedError
+
+    def markdown(self, sweep: Swept) -> list[str]:
+        return [EXPERIMENTS, *experiments.family_table(experiments.family(self.criteria(sweep))),
+                "\nHolm-adjusted here over this sweep's hypotheses only; the registered family "
+                "is all eleven of E1-E3 (family_markdown over the report's sweeps).\n"]
+
+
+class E1Width(Experiment):
+    """E1-N, E1-W, E1-A: a model of holding on log2 weights, log2 width and three layers."""
+
+    name = "e1-width"
+
+    def criteria(self, sweep: Swept) -> dict:
+        return experiments.e1_width(sweep.spec, sweep.rows)
+
+
+class E1Range(Experiment):
+    """E1-S: holding against the weight range (saturation)."""
+
+    name = "e1-range"
+
+    def criteria(self, sweep: Swept) -> dict:
+        return experiments.e1_range(sweep.spec, sweep.rows)
+
+
+class E2Onset(Experiment):
+    """E2-O: the share of the LARGE cell's runs that hold late in longer runs."""
+
+    name = "e2-onset"
+    key = "E2-O"
+    cells = ("large",)
+
+    def criteria(self, sweep: Swept) -> dict:
+        return experiments.onset(sweep.spec, sweep.rows, sweep.options["large"], self.key)
+
+
+class E2Population(E2Onset):
+    """E2-P: the same in a larger population."""
+
+    name = "e2-population"
+    key = "E2-P"
+
+
+class E3Modularity(Experiment):
+    """E3-M, E3-H, E3-T: MODULAR 2/2/4 against SCRAMBLED 2/2/4 and THREE-layer 4."""
+
+    name = "e3-modularity"
+    cells = ("modular", "scrambled", "three")
+
+    def criteria(self, sweep: Swept) -> dict:
+        o = sweep.options
+        return experiments.e3(sweep.spec, sweep.rows, experiments.Modularity(
+            (o["modular"], "normal"), (o["scrambled"], "normal"), (o["three"], "three-layer")))
+
+
+def family_markdown(sweeps: list[Swept], extra: dict | None = None) -> list[str]:
+    """The registered family of E1-E3 over the sweeps that name an experiment's rule, with
+    EXTRA criteria judged outside sweeps (E2's screen and transplant), Holm over all of them."""
+    criteria = dict(extra or {})
+    for sweep in sweeps:
+        rule = rule_of(sweep.spec)
+        if isinstance(rule, Experiment):
+            criteria.update(rule.criteria(sweep))
+    return experiments.family_table(experiments.family(criteria)) if criteria else []
+
+
 NO_RULE = Rule()
 # by precedence: the first rule with something to say chooses the defaults (the pre-registered
 # confirmatory rule supersedes the earlier regime rule)
-RULES: dict[str, Rule] = {rule.name: rule for rule in (Confirmatory(), Regime(), LoadMap(),
-                                                        Readings())}
+RULES: dict[str, Rule] = {rule.name: rule for rule in (
+    Confirmatory(), Regime(), LoadMap(), Readings(), E1Width(), E1Range(), E2Onset(),
+    E2Population(), E3Modularity())}
 
 
 def rule_of(spec: SweepSpec) -> Rule:

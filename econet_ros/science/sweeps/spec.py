@@ -198,19 +198,27 @@ def _cells(named: Any, crossed: list[dict], conditions: tuple[str, ...]) -> list
         raise ConfigError(f"cells must be a table of named cells, got {named!r}")
     bases = []
     for name, body in named.items():
-        if not isinstance(body, dict) or set(body) - {"set", "conditions"}:
-            raise ConfigError(f"cell '{name}' takes 'set' (config changes) and 'conditions' "
-                              f"only, got {body!r}")
-        bases.append((name, _changes(body.get("set", {}), f"cell '{name}' set"),
-                      _conditions(body.get("conditions", list(conditions)),
-                                  f"cell '{name}' conditions")))
+        if not isinstance(body, dict) or set(body) - {"set", "conditions", "seeded"}:
+            raise ConfigError(f"cell '{name}' takes 'set' (config changes), 'conditions' and "
+                              f"'seeded' only, got {body!r}")
+        seeded = body.get("seeded", [])
+        if not isinstance(seeded, list) or not all(isinstance(k, str) for k in seeded):
+            raise ConfigError(f"cell '{name}' seeded must list dotted setting keys (each set "
+                              f"to the run's seed), got {seeded!r}")
+        changes = _changes(body.get("set", {}), f"cell '{name}' set")
+        if set(seeded) & set(changes):
+            raise ConfigError(f"cell '{name}' both sets and seeds "
+                              f"{', '.join(sorted(set(seeded) & set(changes)))}")
+        bases.append((name, changes, _conditions(body.get("conditions", list(conditions)),
+                                                 f"cell '{name}' conditions"), tuple(seeded)))
     if not bases:
-        bases = [("", {}, conditions)]
+        bases = [("", {}, conditions, ())]
     cells = []
-    for (name, changes, own), levels in itertools.product(bases, crossed):
+    for (name, changes, own, seeded), levels in itertools.product(bases, crossed):
         label = "+".join(filter(None, [name] + [f"{k.partition('.')[2]}={_level(v)}"
                                                 for k, v in levels.items()])) or "base"
-        cells.append(Cell(label, {**changes, **levels}, own, name, tuple(levels.items())))
+        cells.append(Cell(label, {**changes, **levels}, own, name, tuple(levels.items()),
+                          seeded))
     return cells
 
 

@@ -1,0 +1,246 @@
+"""The pre-registered rules of docs/preregistrations.md ("Experiments E1-E4 and an independent
+check"): E1 (what decides holding: the last hidden layer's width, the weights, the architecture
+or saturation), E2 (finding holding or keeping it), E3 (the paper's modularity at equal weights
+and width), each hypothesis a verdicts.Criterion with its margin and four-way verdict, and Holm
+over the family of all eleven. The rules were committed before any of these runs; this module
+only applies them to tidy rows (outcomes.py) or, for E2's screen and transplant, to holding
+flags."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...config import Config
+from ...evolution import InProcessEvaluator, initial_genomes
+from .. import holding
+from ..claims import RANGE_SHARE
+from ..stats import Estimate, firth_logistic, holm, paired, share, share_difference
+from ..verdicts import DECIDED, INCONCLUSIVE, MOST, Criterion, Row, above, decide
+from .plan import SweepSpec, values
+
+LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does not matter (H3b's)
+SCREEN_MARGIN = RANGE_SHARE   # E2-S: a share's margin, 5% of its range
+SHARE_GAP_MARGIN = 0.25   # E3-H: the claims' margin for "most runs", three runs in four
+SCREEN_POPULATION = 200   # E2-S: random genomes per seed (a multiple of the 20 parents)
+SCREEN_SEEDS = tuple(range(9201, 9211))
+SCREENED = {"2/2/4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
+                      "network.intermodal_hidden": 4},
+            "4/4/8": {"network.visual_hidden": 4, "network.proprio_hidden": 4,
+                      "network.intermodal_hidden": 8},
+            "three-layer 4": {"evolution.condition": "three-layer",
+                              "network.three_layer_hidden": 4},
+            "three-layer 8": {"evolution.condition": "three-layer",
+                              "network.three_layer_hidden": 8}}
+FEWEST_SOURCES = 5        # E2-T is not judged on fewer holding champions
+RESAMPLES = 2000          # the seed-cluster bootstrap's resamples
+BOOTSTRAP = "Firth, seed-cluster bootstrap"
+FAMILY = ("E1-N", "E1-W", "E1-A", "E1-S", "E2-S", "E2-T", "E2-O", "E2-P", "E3-M", "E3-H",
+          "E3-T")
+
+
+# -- E1: a model of holding on runs -----------------------------------------------------------
+def runs_of(spec: SweepSpec, rows: list[dict]) -> list[dict]:
+    """Per finished run: its seed, whether it holds (0/1), weights, width (the last hidden
+    layer's units), three-layer (0/1) and weight range, the last three read from its settings."""
+    settings = {(r.cell, r.condition): r.config for r in spec.runs()}
+    found = []
+    for row in rows:
+        if row["generations_done"] != spec.generations:
+            continue
+        config = settings[(row["cell"], row["condition"])]
+        three = row["condition"] == "three-layer"
+        found.append({"cell": row["cell"], "seed": row["seed"], "weights": row["weights"],
+                      "holds": float(holding.kind(row["top_separations_per_success_late"])
+                                     == holding.HOLDS),
+                      "width": (config.network.three_layer_hidden if three
+                                else config.network.intermodal_hidden),
+                      "three_layer": float(three), "range": config.evolution.weight_range})
+    return found
+
+
+def _columns(runs: list[dict], terms: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The fit's columns by term: log2 of weights, width and range, the three-layer flag."""
+    return {term: (np.array([r[term] for r in runs]) if term == "three_layer"
+                   else np.log2([r[term] for r in runs])) for term in terms}
+
+
+def clustered_fit(runs: list[dict], terms: tuple[str, ...], resamples: int = RESAMPLES,
+                  seed: int = 0) -> dict[str, Estimate]:
+    """The Firth fit of holding on the terms, each coefficient with a seed-cluster bootstrap
+    interval: the seeds resampled with replacement, all runs of a drawn seed together (a seed
+    fixes the trial starts of every cell), so that the interval respects what cells share."""
+    point = firth_logistic(_columns(runs, terms), [r["holds"] for r in runs])
+    by_seed: dict[int, list[dict]] = {}
+    for r in runs:
+        by_seed.setdefault(r["seed"], []).append(r)
+    seeds, rng = sorted(by_seed), np.random.default_rng(seed)
+    draws = {term: [] for term in terms}
+    for _ in range(resamples):
+        drawn = [r for s in rng.choice(seeds, len(seeds)) for r in by_seed[s]]
+        try:
+            fit = firth_logistic(_columns(drawn, terms), [r["holds"] for r in drawn])
+        except np.linalg.LinAlgError:       # a resample without the spread a term needs
+            continue
+        for term in terms:
+            draws[term].append(fit.terms[term].mean)
+    return {term: Estimate(point.terms[term].mean, *np.percentile(draws[term], [2.5, 97.5]),
+                           len(runs), BOOTSTRAP) for term in terms}
+
+
+def falls(what: str, coefficient: Estimate) -> Criterion:
+    """A coefficient predicted < 0, absent within the log odds margin."""
+    return Criterion(what, coefficient, high=0.0, margin=LOG_ODDS_MARGIN, null=True)
+
+
+def e1_width(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> dict[str, Criterion]:
+    """E1-N, E1-W, E1-A: width, weights and three layers, each at equal values of the others."""
+    fit = clustered_fit(runs_of(spec, rows), ("weights", "width", "three_layer"), resamples)
+    return {"E1-N": falls("log2 width coefficient", fit["width"]),
+            "E1-W": falls("log2 weights coefficient", fit["weights"]),
+            "E1-A": falls("three-layer coefficient", fit["three_layer"])}
+
+
+def e1_range(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> dict[str, Criterion]:
+    """E1-S: holding against the weight range at equal weights (saturation)."""
+    fit = clustered_fit(runs_of(spec, rows), ("range", "weights"), resamples)
+    return {"E1-S": falls("log2 weight range coefficient", fit["range"])}
+
+
+# -- E2: the screen, the transplant, the onset ------------------------------------------------
+def screen_genomes(config: Config, seeds, population: int = SCREEN_POPULATION) -> np.ndarray:
+    """Whether each random genome that reaches holds (1.0) or brushes (0.0), no evolution: per
+    seed, the first generation a run of that seed (run 1) with ``population`` econets draws,
+    each scored on that generation's trials; a genome holds by the run's rule (at most one
+    separation per successful trial over its trials)."""
+    config = config.replace(**{"evolution.population": population})
+    evaluator = InProcessEvaluator(config)
+    flags = []
+    for seed in seeds:
+        genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
+        m = evaluator.test_generation(genomes, seed, 1, 0).measures
+        ratios = [holding.per_success(sep, hit) for sep, hit in zip(m.separations, m.success)]
+        flags += [float(holding.kind(r) == holding.HOLDS) for r in ratios if np.isfinite(r)]
+    return np.array(flags)
+
+
+def screen(large: np.ndarray, small: np.ndarray) -> dict[str, Criterion]:
+    """E2-S on the random genomes that reach (1.0: holds, 0.0: brushes): the large net's
+    holding share minus the small net's, predicted < 0 (holding must be found)."""
+    gap = share_difference(large, small)
+    return {"E2-S": Criterion("holding share of random genomes, 4/4/8 - 2/2/4", gap, high=0.0,
+                              margin=SCREEN_MARGIN, null=True)}
+
+
+def screen_all(base: Config | None = None, seeds=SCREEN_SEEDS,
+               population: int = SCREEN_POPULATION) -> dict[str, np.ndarray]:
+    """The registered screen: every architecture of SCREENED on the same seeds."""
+    base = base or Config()
+    return {name: screen_genomes(base.replace(**changes), seeds, population)
+            for name, changes in SCREENED.items()}
+
+
+def screen_markdown(flags: dict[str, np.ndarray]) -> list[str]:
+    """The screen's shares per architecture, E2-S and, beside it, three-layer 8 - 4."""
+    lines = ["| network | random genomes that reach | of them hold [95% CI, Clopper-Pearson] |",
+             "|---|---|---|"]
+    lines += [f"| {name} | {len(f)} | {share(f).text(3)} |" for name, f in flags.items()]
+    three = share_difference(flags["three-layer 8"], flags["three-layer 4"])
+    e2_s = screen(flags["4/4/8"], flags["2/2/4"])["E2-S"]
+    return lines + ["", f"E2-S: {e2_s.text(four=True)}.",
+                    f"Beside it, three-layer 8 - 4: {three.text(3)} ({three.method})."]
+
+
+def most_hold(what: str, flags) -> Criterion:
+    """A share of runs that hold, predicted above one half (reversed wholly below it)."""
+    return Criterion(what, share(flags), low=MOST)
+
+
+def transplant(flags) -> dict[str, Criterion]:
+    """E2-T: of the 4/4/8 runs started from a holding 2/2/4 champion, the share still holding
+    late; not judged (an empty share) on fewer than FEWEST_SOURCES of them."""
+    flags = np.asarray(flags, dtype=float)
+    kept = flags if np.isfinite(flags).sum() >= FEWEST_SOURCES else np.array([])
+    return {"E2-T": most_hold("share of transplanted 4/4/8 runs holding late", kept)}
+
+
+def onset(spec: SweepSpec, rows: list[dict], cell: str, key: str) -> dict[str, Criterion]:
+    """E2-O or E2-P: the share of the large net's runs (the cell) that hold late."""
+    flags = [r["holds"] for r in runs_of(spec, rows) if r["cell"] == cell]
+    return {key: most_hold(f"share of {cell} runs holding late", flags)}
+
+
+# -- E3: modular, scrambled, three-layer ------------------------------------------------------
+@dataclass(frozen=True)
+class Modularity:
+    """E3's cells, each a (cell, condition) of its sweep."""
+
+    modular: tuple[str, str]
+    scrambled: tuple[str, str]
+    three: tuple[str, str]
+
+
+def e3(spec: SweepSpec, rows: list[dict], cells: Modularity) -> dict[str, Criterion]:
+    """E3-M, E3-H, E3-T: the modular net against the scrambled one and the three-layer one,
+    paired by seed; late fitness (a hold/brush mixture) on the median difference."""
+    e = spec.runs()[0].config.evolution
+    margin = RANGE_SHARE * e.trials * e.cycles
+
+    def fitness(side):
+        return values(rows, *side, "top_fitness_late", spec.seeds)
+
+    def holds(side):
+        flags = [r["holds"] for r in runs_of(spec, rows) if r["cell"] == side[0]]
+        return np.array(flags)
+    return {"E3-M": above("late fitness, modular - scrambled",
+                          paired(fitness(cells.modular), fitness(cells.scrambled), mixture=True),
+                          margin=margin, digits=1),
+            "E3-H": Criterion("holding share, modular - scrambled",
+                              share_difference(holds(cells.modular), holds(cells.scrambled)),
+                              low=0.0, margin=SHARE_GAP_MARGIN, null=True),
+            "E3-T": above("late fitness, modular - three-layer 4",
+                          paired(fitness(cells.modular), fitness(cells.three), mixture=True),
+                          margin=margin, digits=1)}
+
+
+# -- the family -------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Judged:
+    """A hypothesis's raw four-way verdict with its p-value, and after Holm over the family."""
+
+    key: str
+    criterion: Criterion
+    verdict: str
+    p: float
+    adjusted_p: float
+    adjusted: str
+
+
+def family(criteria: dict[str, Criterion]) -> list[Judged]:
+    """Holm over the hypotheses given (the registered family is FAMILY; one not yet judged is
+    left out of the adjustment): the adjusted verdict is the raw one when its adjusted p-value
+    is below DECIDED, inconclusive otherwise."""
+    unknown = set(criteria) - set(FAMILY)
+    if unknown:
+        raise ValueError(f"not in the registered family: {', '.join(sorted(unknown))}")
+    keys = [k for k in FAMILY if k in criteria]
+    decided = [decide([criteria[k]]) for k in keys]
+    adjusted = holm([p for _, p in decided])
+    return [Judged(k, criteria[k], v, p, a,
+                   v if np.isfinite(a) and a < DECIDED else INCONCLUSIVE)
+            for k, (v, p), a in zip(keys, decided, adjusted)]
+
+
+def rows_of(judged: list[Judged]) -> list[Row]:
+    return [Row(j.key, j.criterion.text(four=True), j.verdict) for j in judged]
+
+
+def family_table(judged: list[Judged]) -> list[str]:
+    """The hypotheses as Markdown: measured, raw verdict and p, Holm-adjusted p and verdict."""
+    def number(p: float) -> str:
+        return f"{p:.3g}" if math.isfinite(p) else "n/a"
+    return ["| hypothesis | measured | verdict | p | Holm p | adjusted verdict |",
+            "|---|---|---|---|---|---|",
+            *(f"| {j.key} | {j.criterion.text(four=True)} | {j.verdict} | {number(j.p)} | "
+              f"{number(j.adjusted_p)} | {j.adjusted} |" for j in judged)]

@@ -1,0 +1,200 @@
+"""The pre-registered rules of the experiments (docs/preregistrations.md, "Experiments E1-E4 and
+an independent check") on hand-made tidy rows of their own sweep specs: data built for a
+hypothesis replicate it, data built against it reverse it, data with no effect make it absent
+(where it can be), and Holm runs over the registered family."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from econet_ros.config import Config
+from econet_ros.errors import ConfigError
+from econet_ros.plugins import make_controller
+from econet_ros.science.sweeps import experiments
+from econet_ros.science.sweeps.plan import SweepSpec
+from econet_ros.science.sweeps.rules import RULES, Swept, family_markdown, rule_of
+from econet_ros.science.sweeps.spec import load_spec
+from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, NOT_JUDGED, REPLICATES, REVERSED
+
+SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+WIDTH = load_spec(SPECS / "e1-width.toml")
+RANGE = load_spec(SPECS / "e1-range.toml")
+ONSET = load_spec(SPECS / "e2-onset-long.toml")
+MODULARITY = load_spec(SPECS / "e3-modularity.toml")
+RESAMPLES = 200          # enough to place a bootstrap interval in a test
+
+
+def rows_for(spec, holds_at, seed=0, fitness=None):
+    """Tidy rows of every run of SPEC; a run holds with the probability holds_at(run config,
+    condition, weights) (a holding run 0.2 separations per reach, a brushing one 20)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for run in spec.runs():
+        weights = make_controller(run.condition, 1, run.config).n_params
+        held = rng.random() < holds_at(run.config, run.condition, weights)
+        rows.append({"cell": run.cell, "condition": run.condition, "seed": run.seed,
+                     "generations_done": spec.generations, "weights": weights,
+                     "top_separations_per_success_late": 0.2 if held else 20.0,
+                     "top_fitness_late": (fitness or (lambda c, h: 600.0 if h else 200.0))(
+                         run.cell, held) + rng.normal(0, 10)})
+    return rows
+
+
+def width_of(config, condition):
+    return (config.network.three_layer_hidden if condition == "three-layer"
+            else config.network.intermodal_hidden)
+
+
+def logistic(x):
+    return 1 / (1 + np.exp(-x))
+
+
+def judged(criteria):
+    return {key: c.judged for key, c in criteria.items()}
+
+
+def test_every_e1_cell_has_the_registered_weights_and_width():
+    table = {(r.cell, make_controller(r.condition, 1, r.config).n_params,
+              width_of(r.config, r.condition)) for r in WIDTH.runs()}
+    assert {("four-3-3-2", 60, 2), ("four-1-1-6", 60, 6), ("four-6-6-2", 108, 2),
+            ("four-1-1-12", 108, 12), ("four-9-9-2", 156, 2), ("four-1-1-18", 156, 18),
+            ("three-6", 108, 6)} <= table
+    assert len(WIDTH.runs()) == 240 and WIDTH.seeds == tuple(range(9101, 9121))
+
+
+def test_holding_set_by_width_alone_replicates_e1_n_and_makes_weights_absent():
+    rows = rows_for(WIDTH, lambda c, cond, w: logistic(6 - 3 * np.log2(width_of(c, cond))))
+    found = judged(experiments.e1_width(WIDTH, rows, RESAMPLES))
+    assert found["E1-N"] == REPLICATES
+    assert found["E1-W"] in (ABSENT, INCONCLUSIVE) and found["E1-W"] != REPLICATES
+
+
+def test_holding_set_by_weights_alone_replicates_e1_w_not_e1_n():
+    rows = rows_for(WIDTH, lambda c, cond, w: logistic(18 - 3 * np.log2(w)))
+    found = judged(experiments.e1_width(WIDTH, rows, RESAMPLES))
+    assert found["E1-W"] == REPLICATES and found["E1-N"] != REPLICATES
+
+
+def test_wider_nets_holding_more_often_reverses_e1_n():
+    rows = rows_for(WIDTH, lambda c, cond, w: logistic(-6 + 3 * np.log2(width_of(c, cond))))
+    assert judged(experiments.e1_width(WIDTH, rows, RESAMPLES))["E1-N"] == REVERSED
+
+
+def test_a_weak_three_layer_net_replicates_e1_a():
+    rows = rows_for(WIDTH, lambda c, cond, w: 0.05 if cond == "three-layer" else 0.9)
+    assert judged(experiments.e1_width(WIDTH, rows, RESAMPLES))["E1-A"] == REPLICATES
+
+
+def test_the_seed_cluster_interval_is_reproducible_and_holds_the_point_fit():
+    rows = rows_for(WIDTH, lambda c, cond, w: 0.5)
+    runs = experiments.runs_of(WIDTH, rows)
+    a, b = (experiments.clustered_fit(runs, ("weights", "width"), 100) for _ in range(2))
+    assert a == b
+    assert a["width"].method == experiments.BOOTSTRAP and a["width"].n == 240
+
+
+def test_holding_that_falls_with_the_weight_range_replicates_e1_s():
+    rows = rows_for(RANGE, lambda c, cond, w: logistic(7 - 2.5 * np.log2(
+        c.evolution.weight_range)))
+    assert judged(experiments.e1_range(RANGE, rows, RESAMPLES))["E1-S"] == REPLICATES
+    flat = rows_for(RANGE, lambda c, cond, w: 0.5)
+    assert judged(experiments.e1_range(RANGE, flat, RESAMPLES))["E1-S"] != REPLICATES
+
+
+@pytest.mark.parametrize("large, verdict", [(0.05, REPLICATES), (0.30, ABSENT), (0.6, REVERSED)])
+def test_the_screen_judges_the_large_net_against_the_small_one(large, verdict):
+    rng = np.random.default_rng(3)
+    small = (rng.random(2000) < 0.3).astype(float)
+    big = (rng.random(2000) < large).astype(float)
+    assert experiments.screen(big, small)["E2-S"].judged == verdict
+
+
+@pytest.mark.parametrize("flags, verdict", [([1.0] * 15 + [0.0], REPLICATES),
+                                            ([0.0] * 15 + [1.0], REVERSED),
+                                            ([1.0, 0.0] * 5, INCONCLUSIVE),
+                                            ([1.0] * 4, NOT_JUDGED)])
+def test_the_transplant_keeps_or_loses_holding(flags, verdict):
+    assert experiments.transplant(flags)["E2-T"].judged == verdict
+
+
+def test_the_onset_rule_reads_the_large_cell_its_spec_names():
+    rows = rows_for(ONSET, lambda c, cond, w: 0.95 if w == 160 else 0.0)
+    found = rule_of(ONSET).criteria(Swept(ONSET, rows))
+    assert found["E2-O"].judged == REPLICATES and found["E2-O"].interval.n == 20
+
+
+@pytest.mark.parametrize("scrambled_holds, e3_m", [(0.1, REPLICATES), (0.9, ABSENT)])
+def test_e3_replicates_when_scrambling_hurts_and_is_absent_when_it_does_not(
+        scrambled_holds, e3_m):
+    spec = MODULARITY
+    rows = rows_for(spec, lambda c, cond, w: 0.0, fitness=lambda cell, held: {
+        "modular": 600.0, "scrambled": 600.0 if scrambled_holds > 0.5 else 200.0}.get(cell, 200.0))
+    for r in rows:          # holding as built: modular 90%, scrambled as asked, three-layer none
+        i = spec.seeds.index(r["seed"])
+        share = {"modular": 0.9, "scrambled": scrambled_holds}.get(r["cell"], 0.0)
+        r["top_separations_per_success_late"] = 0.2 if i < share * len(spec.seeds) else 20.0
+    found = judged(rule_of(spec).criteria(Swept(spec, rows)))
+    assert found["E3-M"] == e3_m
+    assert found["E3-T"] == REPLICATES
+
+
+def test_the_scrambled_cell_draws_its_wiring_from_each_run_seed_and_keeps_it_when_stored():
+    scrambled = [r for r in MODULARITY.runs() if r.cell == "scrambled"]
+    assert [r.config.network.wiring_seed for r in scrambled] == list(range(9301, 9361))
+    assert all(r.config.network.first_layer_wiring == "scrambled" for r in scrambled)
+    assert all(r.config.network.wiring_seed == 0 for r in MODULARITY.runs()
+               if r.cell != "scrambled")
+    again = SweepSpec.from_dict(MODULARITY.to_dict())
+    assert [r.config for r in again.runs()] == [r.config for r in MODULARITY.runs()]
+    assert "seeded" not in WIDTH.to_dict()["cells"][0]    # stored as before without it
+
+
+def test_a_cell_cannot_both_set_and_seed_a_setting(tmp_path):
+    text = (SPECS / "e3-modularity.toml").read_text().replace(
+        '"network.first_layer_wiring" = "scrambled"}',
+        '"network.first_layer_wiring" = "scrambled", "network.wiring_seed" = 3}')
+    (tmp_path / "both.toml").write_text(text)
+    with pytest.raises(ConfigError, match="both sets and seeds network.wiring_seed"):
+        load_spec(tmp_path / "both.toml")
+
+
+def test_holm_runs_over_the_registered_family_and_can_only_withhold_a_verdict():
+    rng = np.random.default_rng(4)
+    criteria = {**experiments.screen((rng.random(2000) < 0.25).astype(float),
+                                     (rng.random(2000) < 0.3).astype(float)),
+                **experiments.transplant([1.0] * 15 + [0.0])}
+    found = {j.key: j for j in experiments.family(criteria)}
+    assert found["E2-T"].adjusted == found["E2-T"].verdict == REPLICATES
+    assert found["E2-S"].adjusted_p >= found["E2-S"].p
+    assert all(j.adjusted in (j.verdict, INCONCLUSIVE) for j in found.values())
+    with pytest.raises(ValueError, match="not in the registered family"):
+        experiments.family({"H1": criteria["E2-T"]})
+
+
+def test_every_experiment_rule_is_registered_and_its_table_lists_its_hypotheses():
+    assert {"e1-width", "e1-range", "e2-onset", "e2-population", "e3-modularity"} <= set(RULES)
+    rows = rows_for(ONSET, lambda c, cond, w: 0.5)
+    text = "\n".join(family_markdown([Swept(ONSET, rows)],
+                                     experiments.transplant([1.0] * 6)))
+    assert "| E2-T |" in text and "| E2-O |" in text and "Holm p" in text
+
+
+def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
+    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
+                                 "evolution.parents": 10})
+    a = experiments.screen_genomes(config, [9201], population=20)
+    b = experiments.screen_genomes(config, [9201], population=20)
+    assert np.array_equal(a, b) and 0 < len(a) <= 20     # only the genomes that reach
+    assert set(a.tolist()) == {0.0, 1.0}                  # these 20 both hold and brush
+    two = experiments.screen_genomes(config, [9201, 9202], population=20)
+    assert np.array_equal(two[:len(a)], a)                # a seed's genomes do not move
+
+
+def test_the_registered_screen_covers_four_architectures_and_reports_e2_s():
+    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
+                                 "evolution.parents": 10})
+    flags = experiments.screen_all(config, seeds=[9201], population=20)
+    assert list(flags) == ["2/2/4", "4/4/8", "three-layer 4", "three-layer 8"]
+    text = "\n".join(experiments.screen_markdown(flags))
+    assert "E2-S: holding share of random genomes, 4/4/8 - 2/2/4" in text
+    assert experiments.SCREEN_SEEDS == tuple(range(9201, 9211))
