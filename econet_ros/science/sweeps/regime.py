@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import holding
-from ..stats import Estimate, estimate, paired
+from ..stats import Estimate, bounded, estimate, paired
 from ..verdicts import EARLY_AHEAD, Row, above, below, combine, point, sign_count
 from .plan import SweepSpec, comparison_pairs, values
 
@@ -44,7 +44,7 @@ def judge_setting(spec: SweepSpec, rows: list[dict], s: Setting) -> list[Row]:
     early = paired(v(s.four, "top_fitness_early"), v(s.three, "top_fitness_early"))
     succ = paired(v(s.four, "top_successes_late"), v(s.three, "top_successes_late"))
     sep = paired(v(s.four, "top_separations_late"), v(s.three, "top_separations_late"))
-    per_reach = estimate(v(s.four, "top_separations_per_success_late"))
+    per_reach = bounded(estimate(v(s.four, "top_separations_per_success_late")))   # >= 0
     sep_r = paired(v(s.four, "top_separations_late"), v(s.random, "top_separations_late"))
     fit_r = paired(v(s.four, "top_fitness_late"), v(s.random, "top_fitness_late"))
     four, rand = (estimate(v(side, "top_fitness_late")) for side in (s.four, s.random))

@@ -9,7 +9,7 @@ from pathlib import Path
 from ...errors import ResultsError
 from ...provenance import made_with
 from .. import holding
-from ..stats import estimate, median, paired, share
+from ..stats import bounded, estimate, median, paired, share
 from .figures import comparison_figure, gallery, outcome_figure
 from .outcomes import OUTCOMES, WINDOWS, tidy_rows
 from .plan import SweepSpec, comparison_pairs, values
@@ -86,8 +86,8 @@ def holding_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
     lines = [f"## Holding or brushing, per run (a run holds with at most {holding.LIMIT:g} late "
              "separation per successful trial)\n",
              "| cell | condition | hold / brush / no reach | share holding [95% CI, "
-             "Clopper-Pearson] | late separations per successful trial: mean [t CI]; median "
-             "[CI] | late top-20 fitness: mean [t CI]; median [CI] |", "|---|---|---|---|---|---|"]
+             "Clopper-Pearson] | late separations per successful trial: mean [t CI, clipped at 0]; "
+             "median [CI] | late top-20 fitness: mean [t CI, clipped at 0]; median [CI] |", "|---|---|---|---|---|---|"]
     for cell in spec.cells:
         for condition in cell.conditions:
             kinds = [r["holding_late"] for r in rows if r["cell"] == cell.name
@@ -99,9 +99,10 @@ def holding_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
             held = share([k == holding.HOLDS for k in kinds])
             sep, fit = (values(rows, cell.name, condition, column, spec.seeds) for column in
                         ("top_separations_per_success_late", "top_fitness_late"))
+            # neither separations nor fitness can be negative: the t intervals are clipped
             lines.append(f"| {cell.name} | {condition} | {counts} | {held.text(2)} | "
-                         f"{estimate(sep).text(1)}; {median(sep).text(1)} | "
-                         f"{estimate(fit).text(0)}; {median(fit).text(0)} |")
+                         f"{bounded(estimate(sep)).text(1)}; {median(sep).text(1)} | "
+                         f"{bounded(estimate(fit)).text(0)}; {median(fit).text(0)} |")
     return lines + [""]
 
 

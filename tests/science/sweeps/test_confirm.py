@@ -109,3 +109,20 @@ def test_the_load_map_lists_every_cell_with_its_load():
     table = confirm.map_table(confirm.map_runs(MAP, rows))
     assert len(table) == 2 + len(MAP.cells)
     assert any(line.startswith("| four-4-4-8-L10.24 | 160 | 10.24 |") for line in table)
+
+
+def test_holding_table_intervals_stay_inside_the_measures_range():
+    """Most runs hold (0.2 separations per reach) and a few brush (20): the t interval of the
+    mean reaches below 0, which no count of separations can; the table clips it at 0."""
+    from econet_ros.science.holding import kind
+    from econet_ros.science.sweeps.report import holding_markdown
+
+    rows = confirm_rows(holding_runs=17)
+    for row in rows:
+        row["holding_late"] = kind(row["top_separations_per_success_late"])
+    line = next(line for line in holding_markdown(CONFIRM, rows)
+                if line.startswith(f"| {NETS.four[0]} | normal"))
+    separations = line.split(" | ")[4]
+    mean_part = separations.split(";")[0]                 # "3.2 [0.0, 6.5] (n=20)"
+    low = float(mean_part.split("[")[1].split(",")[0])
+    assert "17 / 3 / 0" in line and low == 0.0, line
