@@ -157,7 +157,7 @@ def most_hold(what: str, flags) -> Criterion:
     return Criterion(what, share(flags), low=MOST)
 
 
-def transplant(flags) -> dict[str, Criterion]:
+def transplant_kept(flags) -> dict[str, Criterion]:
     """E2-T: of the 4/4/8 runs started from a holding 2/2/4 champion, the share still holding
     late; not judged (an empty share) on fewer than FEWEST_SOURCES of them."""
     flags = np.asarray(flags, dtype=float)

@@ -172,8 +172,8 @@ class Readings(Rule):
 
 class Experiment(Rule):
     """A rule of the pre-registered experiments: its hypotheses as criteria (experiments.py),
-    shown with their raw four-way verdicts; Holm runs over the whole family
-    (family_markdown)."""
+    shown with their raw four-way verdicts, Holm-adjusted within the sweep; the registered
+    correction over the whole family is family_markdown, which a later report is to call."""
 
     def criteria(self, sweep: Swept) -> dict:
         raise NotImplementedError
@@ -181,7 +181,7 @@ class Experiment(Rule):
     def markdown(self, sweep: Swept) -> list[str]:
         return [EXPERIMENTS, *experiments.family_table(experiments.family(self.criteria(sweep))),
                 "\nHolm-adjusted here over this sweep's hypotheses only; the registered family "
-                "is all eleven of E1-E3 (family_markdown over the report's sweeps).\n"]
+                "is all eleven of E1-E3, judged together once every experiment has run.\n"]
 
 
 class E1Width(Experiment):

@@ -114,7 +114,7 @@ def test_the_screen_judges_the_large_net_against_the_small_one(large, verdict):
                                             ([1.0, 0.0] * 5, INCONCLUSIVE),
                                             ([1.0] * 4, NOT_JUDGED)])
 def test_the_transplant_keeps_or_loses_holding(flags, verdict):
-    assert experiments.transplant(flags)["E2-T"].judged == verdict
+    assert experiments.transplant_kept(flags)["E2-T"].judged == verdict
 
 
 def test_the_onset_rule_reads_the_large_cell_its_spec_names():
@@ -162,7 +162,7 @@ def test_holm_runs_over_the_registered_family_and_can_only_withhold_a_verdict():
     rng = np.random.default_rng(4)
     criteria = {**experiments.screen((rng.random(2000) < 0.25).astype(float),
                                      (rng.random(2000) < 0.3).astype(float)),
-                **experiments.transplant([1.0] * 15 + [0.0])}
+                **experiments.transplant_kept([1.0] * 15 + [0.0])}
     found = {j.key: j for j in experiments.family(criteria)}
     assert found["E2-T"].adjusted == found["E2-T"].verdict == REPLICATES
     assert found["E2-S"].adjusted_p >= found["E2-S"].p
@@ -175,7 +175,7 @@ def test_every_experiment_rule_is_registered_and_its_table_lists_its_hypotheses(
     assert {"e1-width", "e1-range", "e2-onset", "e2-population", "e3-modularity"} <= set(RULES)
     rows = rows_for(ONSET, lambda c, cond, w: 0.5)
     text = "\n".join(family_markdown([Swept(ONSET, rows)],
-                                     experiments.transplant([1.0] * 6)))
+                                     experiments.transplant_kept([1.0] * 6)))
     assert "| E2-T |" in text and "| E2-O |" in text and "Holm p" in text
 
 
