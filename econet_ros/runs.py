@@ -283,18 +283,22 @@ OnGeneration = Callable[[GenerationResult, np.ndarray], None]
 
 def evolve_into(folder: Path, config: Config, seed: int, run: int,
                 evaluator: Evaluator | None = None, on_generation: OnGeneration | None = None,
-                record: Record = False, on_open: Callable[[int], None] | None = None) -> int:
+                record: Record = False, on_open: Callable[[int], None] | None = None,
+                first_generation: Callable[[], np.ndarray] | None = None) -> int:
     """Evolve one run into ``folder``, resuming from its last finished generation.
 
     Each generation is tested by ``evaluator`` (default: in process), the next one bred by the
     configured optimizer (optimizers.py), and both written before
     ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears how many generations
-    the folder already held. Returns the run's generation count."""
+    the folder already held. A new run starts from the optimizer's first generation, or from
+    ``first_generation()`` when given (a population chosen by the caller, e.g. a transplant;
+    the paper's GA only, whose offspring depend on nothing but their parents). Returns the
+    run's generation count."""
     evaluator = evaluator or InProcessEvaluator(config)
     n_weights = evaluator.n_weights
     optimizer = make_optimizer(config, n_weights, seed, run)
     with RunStore(folder, config, seed, run, n_weights) as store:
-        done, genomes = store.open(optimizer.first_generation)
+        done, genomes = store.open(first_generation or optimizer.first_generation)
         if done:
             optimizer.catch_up(store.fitness_rows(done), genomes)
         with recording_session(store.path, done, config.evolution.generations):

@@ -1,6 +1,8 @@
 """``econet sweep run SPEC --out DIR`` runs a sweep over the paper's open choices on Ray (local
 cores by default, or a cluster with --address); ``econet sweep report DIR`` writes its tidy table,
-paired comparisons, figures and summary. The format: docs/sweeps.md."""
+paired comparisons, figures and summary; ``econet sweep transplant SOURCE --out DIR`` runs the
+transplant arm of the pre-registered experiment E2 from a source sweep. The format:
+docs/sweeps.md."""
 from __future__ import annotations
 
 import argparse
@@ -39,6 +41,24 @@ def add_parser(commands) -> None:
                     "of the decision rule the spec names (its rule key), if any.")
     report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
     report.set_defaults(handler=_report)
+    moved = verbs.add_parser(
+        "transplant", help="larger nets started from the holding champions of a source sweep",
+        description="For every finished run of SOURCE (a sweep of small four-layer nets under "
+                    "evolution.genome_code = sign-magnitude, whose grid holds an exact zero) "
+                    "that holds late, its champion is laid out in a larger net with every added "
+                    "weight exactly zero (checked: it scores exactly what the champion does), "
+                    "and a run of the larger net evolves from copies of it on the source's seed, "
+                    "beside a control run from random genomes on the same seed. Writes "
+                    "DIR/transplanted/, DIR/control/ and DIR/transplant.json (which runs kept "
+                    "holding); run again to resume. The pre-registered experiment E2 "
+                    "(docs/preregistrations.md).")
+    moved.add_argument("source", metavar="SOURCE", help="a folder made by econet sweep run")
+    moved.add_argument("--out", required=True, help="results folder")
+    moved.add_argument("--into", type=units, default=(4, 4, 8), metavar="V/P/I",
+                       help="the larger net's visual/proprioceptive/intermodal hidden units, "
+                            "each at least the source's (default: 4/4/8)")
+    moved.add_argument("--quiet", action="store_true", help="no progress lines")
+    moved.set_defaults(handler=_transplant)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -58,4 +78,25 @@ def _report(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"note: {note}")
     print(f"summary: {summary}")
+    return 0
+
+
+def units(text: str) -> tuple[int, int, int]:
+    """V/P/I hidden units, e.g. 4/4/8."""
+    parts = text.split("/")
+    if len(parts) != 3 or not all(p.isdigit() and int(p) > 0 for p in parts):
+        raise argparse.ArgumentTypeError(f"expected V/P/I positive whole numbers, e.g. 4/4/8, "
+                                         f"got {text!r}")
+    return tuple(int(p) for p in parts)
+
+
+def _transplant(args: argparse.Namespace) -> int:
+    from ..science.sweeps.transplant import kept_flags, run_transplants
+    ensure_writable(Path(args.out))
+    record = run_transplants(Path(args.source), Path(args.out), args.into,
+                             on_run=None if args.quiet else lambda what: print(f"done: {what}",
+                                                                               flush=True))
+    kept = kept_flags(record)
+    print(f"transplant: {len(kept)} holding source run(s); {int(kept.sum())} still hold late in "
+          f"{'/'.join(map(str, args.into))} ({Path(args.out) / 'transplant.json'})")
     return 0

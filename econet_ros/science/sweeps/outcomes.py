@@ -47,6 +47,7 @@ OUTCOMES = (
     Outcome("top_approach_fix", "top-20 P(approach | fixated)", "top_approach_fix"),
 )
 WINDOWS = ("early", "late")
+SEPARATIONS_PER_SUCCESS = next(o for o in OUTCOMES if o.name == "top_separations_per_success")
 
 
 def window(generations: int, name: str) -> slice:
@@ -76,6 +77,13 @@ def outcome_value(series: dict[str, np.ndarray], outcome: Outcome, span: slice) 
         return float(np.nansum(values) / below) if below > 0 else math.nan
     finite = values[np.isfinite(values)]
     return float(finite.mean()) if len(finite) else math.nan
+
+
+def run_holding(folder: Path, generations: int) -> str:
+    """Whether a finished run holds late, brushes or never reaches (holding.kind of its late
+    top-20 separations per successful trial)."""
+    ratio = outcome_value(run_series(folder), SEPARATIONS_PER_SUCCESS, window(generations, "late"))
+    return holding.kind(ratio)
 
 
 def bit_flips_per_copy(config: Config, weights: int) -> float:
