@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..errors import ResultsError
 from ..files import ensure_writable
 from ..science.sweeps.spec import load_spec
 from .options import Parser, positive
@@ -59,6 +60,22 @@ def add_parser(commands) -> None:
                             "each at least the source's (default: 4/4/8)")
     moved.add_argument("--quiet", action="store_true", help="no progress lines")
     moved.set_defaults(handler=_transplant)
+    page = verbs.add_parser(
+        "experiments", help="the page of the pre-registered experiments E1-E4 and the check",
+        description="Judges the eleven hypotheses of the pre-registered experiments together "
+                    "(Holm over the family) from the folders given, each recognised by what it "
+                    "holds: sweep folders whose rule is an experiment's (E1, E2's onset, E3), "
+                    "a folder made by econet sweep transplant (E2-T), a study folder (E4, its "
+                    "claims), a folder holding reference-check.md (the independent check); E2's "
+                    "screen is computed (under a minute). Writes DIR/experiments.md and "
+                    "DIR/figures/. docs/preregistrations.md has the rules.")
+    page.add_argument("folders", metavar="FOLDER", nargs="+", help="the experiments' folders")
+    page.add_argument("--out", required=True, help="folder for experiments.md and figures/")
+    page.add_argument("--against", default=None, metavar="CLAIMS_CSV",
+                      help="an earlier claims.csv that E4's claims are compared with")
+    page.add_argument("--published", default=None, metavar="DIR",
+                      help="where the sweeps' summaries are published (linked from the page)")
+    page.set_defaults(handler=_experiments)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -99,4 +116,16 @@ def _transplant(args: argparse.Namespace) -> int:
     kept = kept_flags(record)
     print(f"transplant: {len(kept)} holding source run(s); {int(kept.sum())} still hold late in "
           f"{'/'.join(map(str, args.into))} ({Path(args.out) / 'transplant.json'})")
+    return 0
+
+
+def _experiments(args: argparse.Namespace) -> int:
+    from ..science.sweeps.family import experiments_page
+    ensure_writable(Path(args.out))
+    against = Path(args.against) if args.against else None
+    if against is not None and not against.is_file():
+        raise ResultsError(f"--against {against}: no such claims table")
+    page = experiments_page([Path(f) for f in args.folders], Path(args.out), against,
+                            Path(args.published) if args.published else None)
+    print(f"experiments: {page}")
     return 0

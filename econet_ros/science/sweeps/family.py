@@ -1,0 +1,261 @@
+"""The page of the pre-registered experiments E1-E4 and the independent check
+(docs/preregistrations.md, "Experiments E1-E4 and an independent check"), made from the folders
+that hold them, each recognised by what it holds: a sweep folder whose rule is an experiment's
+(E1, E2's onset, E3), a transplant folder (E2-T, econet sweep transplant), a study folder (E4,
+its claims.csv) and any folder holding a reference check's section (REFERENCE_CHECK). E2's
+screen needs no folder: it is computed here (under a minute). The eleven hypotheses are judged
+together, Holm over the registered family, and the sentences the registration fixed are chosen
+by the adjusted verdicts."""
+from __future__ import annotations
+
+import csv
+import json
+import os
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import ResultsError
+from ...provenance import made_with
+from .. import holding
+from ..stats import share
+from ..verdicts import ABSENT, FOUR_VERDICTS, INCONCLUSIVE, REPLICATES, REVERSED
+from . import experiments, transplant
+from .figures import experiments_figure
+from .outcomes import run_series, tidy_rows
+from .rules import Experiment, Swept, rule_of
+from .spec import load_sweep
+
+REFERENCE_CHECK = "reference-check.md"   # the independent check's section, in its sweep folder
+ONSET_WINDOW = 20                       # generations: E2's onset is the first such window held
+
+
+@dataclass
+class Folders:
+    """What the given folders hold, by kind."""
+
+    sweeps: list[tuple[Path, Swept]] = field(default_factory=list)
+    transplants: list[tuple[Path, dict]] = field(default_factory=list)
+    studies: list[Path] = field(default_factory=list)
+    checks: list[Path] = field(default_factory=list)
+
+
+def gather(folders: list[Path]) -> Folders:
+    """Sort the folders by what they hold; ResultsError (one line) for one that holds none."""
+    found = Folders()
+    for folder in map(Path, folders):
+        known = False
+        if (folder / "sweep.json").exists():
+            spec = load_sweep(folder)
+            found.sweeps.append((folder, Swept(spec, tidy_rows(spec, folder))))
+            known = True
+        if (folder / transplant.RECORD).exists():
+            found.transplants.append((folder, json.loads((folder / transplant.RECORD).read_text())))
+            known = True
+        if (folder / "claims.csv").exists() and (folder / "study.json").exists():
+            found.studies.append(folder)
+            known = True
+        if (folder / REFERENCE_CHECK).exists():
+            found.checks.append(folder / REFERENCE_CHECK)
+            known = True
+        if not known:
+            raise ResultsError(f"{folder} holds no experiment: expected a sweep folder, a "
+                               f"transplant folder, a study folder or a {REFERENCE_CHECK}")
+    return found
+
+
+# -- E2's onset: when each run first holds -----------------------------------------------------
+def onset_generation(folder: Path) -> int | None:
+    """The first generation of the first ONSET_WINDOW-generation window (0-19, 20-39, ...) in
+    which the run's top 20 hold: at most holding.LIMIT separations per successful trial over the
+    window; None if no window holds."""
+    series = run_series(folder)
+    separations, successes = series["top_separations"], series["top_successes"]
+    for start in range(0, len(successes) - ONSET_WINDOW + 1, ONSET_WINDOW):
+        span = slice(start, start + ONSET_WINDOW)
+        if holding.kind(holding.per_success(separations[span].sum(), successes[span].sum())) \
+                == holding.HOLDS:
+            return start
+    return None
+
+
+def onset_markdown(sweep: Swept, folder: Path) -> list[str]:
+    """Per cell: how many runs ever hold a window, and the median onset among them."""
+    lines = [f"| cell | runs | hold late | ever hold a {ONSET_WINDOW}-generation window | "
+             "onset (first generation of that window): median, range |", "|---|---|---|---|---|"]
+    for cell in sweep.spec.cells:
+        runs = [r for r in sweep.spec.runs() if r.cell == cell.name]
+        onsets = [onset_generation(r.folder(folder)) for r in runs
+                  if (r.folder(folder) / "run.json").exists()]
+        held = [o for o in onsets if o is not None]
+        late = [r["holding_late"] == holding.HOLDS for r in sweep.rows if r["cell"] == cell.name
+                and r["generations_done"]]
+        spread = f"{np.median(held):.0f}, {min(held)}-{max(held)}" if held else "n/a"
+        lines.append(f"| {cell.name} | {len(onsets)} | {share(late).text(2)} | {len(held)} | "
+                     f"{spread} |")
+    return lines + [""]
+
+
+# -- E2's transplant ---------------------------------------------------------------------------
+def transplant_markdown(record: dict) -> list[str]:
+    """The sources, the check of every transplant, and both arms' holding."""
+    runs = record["runs"]
+    moved = [r for r in runs if r["source_holds"]]
+    lines = [f"Source runs: {len(runs)} ({record['source']}), of which {len(moved)} hold late; "
+             f"every transplant scores exactly what its champion did on the champion's own "
+             f"trials: {'yes' if all(r['behaves_alike'] for r in moved) else '**no**'} "
+             f"({sum(r['behaves_alike'] for r in moved)} of {len(moved)}).\n",
+             f"| arm ({'/'.join(map(str, record['into']))}, evolved 200 generations at 2%) | "
+             "runs | hold late [95% CI, Clopper-Pearson] |", "|---|---|---|"]
+    for arm in transplant.ARMS:
+        flags = [r[arm] == holding.HOLDS for r in moved]
+        lines.append(f"| {arm} | {len(flags)} | {share(flags).text(2)} |")
+    return lines + [""]
+
+
+# -- E4: the claims on fresh runs --------------------------------------------------------------
+def read_verdicts(path: Path) -> dict[str, tuple[str, str]]:
+    """claims.csv as {claim key: (raw verdict, Holm-adjusted verdict)}."""
+    with open(path, newline="", encoding="utf-8") as handle:
+        return {row["key"]: (row["verdict"], row["verdict_holm"]) for row in csv.DictReader(handle)}
+
+
+def claims_markdown(study: Path, against: Path | None) -> list[str]:
+    """The tally of E4's claims by the four verdicts, raw and adjusted, and, against an earlier
+    claims table, where its inconclusive claims went."""
+    fresh = read_verdicts(study / "claims.csv")
+    lines = ["| verdict | raw | after Holm over the claims |", "|---|---|---|"]
+    for verdict in FOUR_VERDICTS:
+        raw = sum(v[0] == verdict for v in fresh.values())
+        adjusted = sum(v[1] == verdict for v in fresh.values())
+        if raw or adjusted:
+            lines.append(f"| {verdict} | {raw} | {adjusted} |")
+    lines.append("")
+    if against is None:
+        return lines
+    earlier = read_verdicts(against)
+    for index, name in ((0, "raw"), (1, "after Holm")):
+        was = [k for k in fresh if k in earlier and earlier[k][index] == INCONCLUSIVE]
+        went = Counter(fresh[k][index] for k in was)
+        moved = ", ".join(f"{went[v]} {v}" for v in FOUR_VERDICTS if went[v] and v != INCONCLUSIVE)
+        lines.append(f"- {name}: of the {len(was)} claims inconclusive in the earlier table, "
+                     f"{len(was) - went[INCONCLUSIVE]} leave inconclusive ({moved or 'none'}); "
+                     f"{sum(fresh[k][index] != earlier[k][index] for k in fresh if k in earlier)} "
+                     "of all claims change verdict.")
+    changed = [k for k in fresh if k in earlier and fresh[k][1] != earlier[k][1]]
+    if changed:
+        lines.append("- changed after Holm: " + "; ".join(
+            f"{k}: {earlier[k][1]} -> {fresh[k][1]}" for k in changed))
+    return lines + [""]
+
+
+# -- the registered sentences --------------------------------------------------------------------
+def e1_sentence(width: str, weights: str) -> str:
+    """What the report says of E1-N (width) and E1-W (weights), as registered."""
+    if width == REPLICATES and weights == ABSENT:
+        return "The width of the last hidden layer, not the number of weights, decides holding."
+    if weights == REPLICATES and width == ABSENT:
+        return "The number of weights, not the width of the last hidden layer, decides holding."
+    if width == weights == REPLICATES:
+        return "Both the width of the last hidden layer and the number of weights act on holding."
+    if width == weights == ABSENT:
+        return ("Neither the width of the last hidden layer nor the number of weights moves "
+                "holding by more than the margin.")
+    return (f"Width: {width}; weights: {weights}. The intervals do not single out width or "
+            "weights as what decides holding; see the coefficients above.")
+
+
+def e2_sentences(verdicts: dict[str, str]) -> list[str]:
+    screen, kept = verdicts.get("E2-S"), verdicts.get("E2-T")
+    said = []
+    if screen == REPLICATES and kept == REPLICATES:
+        said.append("Discovery: random large nets rarely hold once in contact, and a large net "
+                    "keeps holding when it is given it.")
+    elif kept == REVERSED:
+        said.append("Maintenance: a large net given holding loses it under mutation.")
+    else:
+        said.append(f"Neither discovery nor maintenance is established (E2-S {screen}, "
+                    f"E2-T {kept}).")
+    longer = [k for k in ("E2-O", "E2-P") if verdicts.get(k) == REPLICATES]
+    if longer:
+        said.append(f"The large nets' shortfall is one of search ({', '.join(longer)} replicates).")
+    return said
+
+
+def e3_sentence(verdicts: dict[str, str]) -> str:
+    m = verdicts.get("E3-M")
+    if m == REPLICATES:
+        return ("Splitting the senses helps at equal weights and width: the modular net's late "
+                "fitness is above the scrambled one's.")
+    if m == ABSENT:
+        return ("At equal weights and width, splitting the senses makes no difference to late "
+                "fitness beyond the margin: the paper's modularity claim does not replicate.")
+    if m == REVERSED:
+        return "At equal weights and width, the scrambled net does better: the claim is reversed."
+    return "Whether splitting the senses helps at equal weights and width stays inconclusive."
+
+
+# -- the page ------------------------------------------------------------------------------------
+def experiments_page(folders: list[Path], out: Path, against: Path | None = None,
+                     published: Path | None = None) -> Path:
+    """Write OUT/experiments.md and OUT/figures/; ``published``: where the sweeps' summaries
+    are published (linked when there)."""
+    found = gather(folders)
+    out = Path(out)
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+    experiment_sweeps = [(f, s) for f, s in found.sweeps if isinstance(rule_of(s.spec), Experiment)]
+    screened = experiments.screen_all()
+    extra = dict(experiments.screen(screened["4/4/8"], screened["2/2/4"]))
+    for _, record in found.transplants:
+        extra.update(experiments.transplant_kept(transplant.kept_flags(record)))
+    criteria = dict(extra)
+    for _, sweep in experiment_sweeps:
+        criteria.update(rule_of(sweep.spec).criteria(sweep))
+    judged = experiments.family(criteria)
+    adjusted = {j.key: j.adjusted for j in judged}
+    runs = [(r["commit"], r["dirty"] is True) for _, s in found.sweeps for r in s.rows
+            if r["generations_done"]]
+    lines = ["# Experiments E1-E4 and the independent check\n",
+             "Pre-registered in [preregistrations.md](../../preregistrations.md#experiments-e1-e4-"
+             "and-an-independent-check-pre-registered-written-and-committed-before-any-of-their-"
+             "runs) before any of their runs; each is reported as it fell.\n",
+             made_with(runs, [s.registration() for _, s in experiment_sweeps]) + "\n"]
+    for _, sweep in found.sweeps:
+        link = (published / sweep.spec.name / "summary.md") if published else None
+        where = (f"[its summary]({os.path.relpath(link, out)})" if link and link.exists()
+                 else "its summary: econet sweep report")
+        lines.append(f"- sweep **{sweep.spec.name}** ({sweep.spec.rule.get('name', 'no rule')}; "
+                     f"{sum(bool(r['generations_done']) for r in sweep.rows)} runs): {where}")
+    lines += ["", "## The family: eleven hypotheses, Holm over all of them\n",
+              *experiments.family_table(judged), "",
+              "Verdicts: replicates / absent (inside the margin) / reversed / inconclusive; "
+              "n/a: not measured here.\n"]
+    figure = experiments_figure([(s.spec.name, rule_of(s.spec).name == "e1-range",
+                                  experiments.runs_of(s.spec, s.rows))
+                                 for _, s in experiment_sweeps
+                                 if rule_of(s.spec).name in ("e1-width", "e1-range")],
+                                out / "figures")
+    lines += ["## E1: width, weights or saturation\n",
+              e1_sentence(adjusted.get("E1-N", "n/a"), adjusted.get("E1-W", "n/a")) + "\n"]
+    if figure:
+        lines.append(f"![holding per cell]({figure.relative_to(out)})\n")
+    lines += ["## E2: discovery or maintenance\n", "The screen (random genomes, no evolution; "
+              "seeds 9201-9210):\n", *experiments.screen_markdown(screened), ""]
+    for folder, record in found.transplants:
+        lines += [f"The transplant ({folder.name}):\n", *transplant_markdown(record)]
+    for folder, sweep in experiment_sweeps:
+        if rule_of(sweep.spec).name in ("e2-onset", "e2-population"):
+            lines += [f"Onset, sweep {sweep.spec.name}:\n", *onset_markdown(sweep, folder)]
+    lines += [*e2_sentences(adjusted), "", "## E3: modularity at equal weights and width\n",
+              e3_sentence(adjusted), ""]
+    for study in found.studies:
+        lines += [f"## E4: the claims on fresh runs ({study.name})\n",
+                  *claims_markdown(study, against)]
+    for check in found.checks:
+        lines += [check.read_text(encoding="utf-8").strip(), ""]
+    page = out / "experiments.md"
+    page.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return page
+

@@ -1,0 +1,141 @@
+"""The experiments' page (family.py): folders recognised by what they hold, the registered
+sentences chosen by the adjusted verdicts, E2's onset read from a run's series, E4's claims
+tallied against an earlier table, and a whole page from tiny folders."""
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from econet_ros.cli import main
+from econet_ros.runs import evolve_into
+from econet_ros.science.sweeps import experiments, family
+from econet_ros.science.sweeps.spec import load_spec, prepare_folder
+from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
+
+MODULARITY = '''
+name = "tiny-e3"
+generations = 20
+seeds = [3, 4]
+behaviour = false
+
+[settings]
+"evolution.population" = 4
+"evolution.parents" = 2
+"evolution.trials" = 2
+"evolution.cycles" = 30
+
+[rule]
+name = "e3-modularity"
+modular = "modular"
+scrambled = "scrambled"
+three = "three"
+
+[cells.modular]
+set = {"network.visual_hidden" = 2, "network.proprio_hidden" = 2, "network.intermodal_hidden" = 4}
+conditions = ["normal"]
+
+[cells.scrambled]
+set = {"network.visual_hidden" = 2, "network.proprio_hidden" = 2, "network.intermodal_hidden" = 4, "network.first_layer_wiring" = "scrambled"}
+seeded = ["network.wiring_seed"]
+conditions = ["normal"]
+
+[cells.three]
+set = {"network.three_layer_hidden" = 4}
+conditions = ["three-layer"]
+'''
+
+
+@pytest.fixture(scope="module")
+def e3_folder(tmp_path_factory) -> Path:
+    """A tiny sweep under E3's rule, evolved in process."""
+    root = tmp_path_factory.mktemp("family")
+    (root / "e3.toml").write_text(MODULARITY)
+    spec = load_spec(root / "e3.toml")
+    out = root / "tiny-e3"
+    prepare_folder(spec, out)
+    for run in spec.runs():
+        evolve_into(run.folder(out), run.config, run.seed, 1)
+    return out
+
+
+def write_claims(path: Path, verdicts: dict[str, tuple[str, str]]) -> Path:
+    with open(path, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, ["key", "verdict", "verdict_holm"])
+        writer.writeheader()
+        for key, (raw, adjusted) in verdicts.items():
+            writer.writerow({"key": key, "verdict": raw, "verdict_holm": adjusted})
+    return path
+
+
+def test_the_registered_sentences_follow_the_adjusted_verdicts():
+    assert family.e1_sentence(REPLICATES, ABSENT).startswith("The width of the last hidden layer")
+    assert family.e1_sentence(ABSENT, REPLICATES).startswith("The number of weights")
+    assert "do not single out" in family.e1_sentence(INCONCLUSIVE, REPLICATES)
+    assert family.e2_sentences({"E2-S": REPLICATES, "E2-T": REPLICATES})[0].startswith("Discovery")
+    assert family.e2_sentences({"E2-S": REPLICATES, "E2-T": REVERSED})[0].startswith("Maintenance")
+    assert family.e2_sentences({"E2-T": INCONCLUSIVE, "E2-O": REPLICATES})[1].endswith(
+        "(E2-O replicates).")
+    assert "does not replicate" in family.e3_sentence({"E3-M": ABSENT})
+    assert "inconclusive" in family.e3_sentence({})
+
+
+def test_the_onset_is_the_first_window_whose_top_20_hold(monkeypatch):
+    separations = np.r_[np.full(40, 30.0), np.full(20, 5.0), np.full(40, 30.0)]
+    successes = np.full(100, 10.0)
+    monkeypatch.setattr(family, "run_series", lambda folder: {
+        "top_separations": separations, "top_successes": successes})
+    assert family.onset_generation(Path("x")) == 40
+    separations[:] = 30.0
+    assert family.onset_generation(Path("x")) is None
+
+
+def test_e4_claims_are_tallied_and_compared_with_an_earlier_table(tmp_path):
+    study = tmp_path / "e4"
+    study.mkdir()
+    write_claims(study / "claims.csv", {"a": (REPLICATES, REPLICATES), "b": (ABSENT, INCONCLUSIVE),
+                                        "c": (INCONCLUSIVE, INCONCLUSIVE)})
+    earlier = write_claims(tmp_path / "old.csv", {"a": (INCONCLUSIVE, INCONCLUSIVE),
+                                                  "b": (INCONCLUSIVE, INCONCLUSIVE),
+                                                  "c": (REPLICATES, INCONCLUSIVE)})
+    text = "\n".join(family.claims_markdown(study, earlier))
+    assert "| replicates | 1 | 1 |" in text and "| absent | 1 | 0 |" in text
+    assert "raw: of the 2 claims inconclusive in the earlier table, 2 leave inconclusive " \
+           "(1 replicates, 1 absent); 3 of all claims change verdict." in text
+    assert "after Holm: of the 3 claims inconclusive in the earlier table, 1 leave " \
+           "inconclusive (1 replicates)" in text
+    assert "changed after Holm: a: inconclusive -> replicates" in text
+
+
+def test_a_folder_that_holds_no_experiment_is_a_one_line_error(tmp_path, capsys):
+    assert main(["sweep", "experiments", str(tmp_path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "holds no experiment" in err and err.count("\n") == 1
+
+
+def test_the_page_judges_the_family_from_the_folders_given(e3_folder, tmp_path, monkeypatch,
+                                                           capsys):
+    small = {"2/2/4": np.array([1.0, 1.0, 0.0]), "4/4/8": np.array([0.0, 0.0, 1.0]),
+             "three-layer 4": np.array([1.0]), "three-layer 8": np.array([0.0])}
+    monkeypatch.setattr(experiments, "screen_all", lambda: small)
+    moved = tmp_path / "moved"
+    moved.mkdir()
+    (moved / "transplant.json").write_text(json.dumps({"source": "s", "into": [4, 4, 8], "runs": [
+        {"seed": s, "source": "s", "source_holds": True, "behaves_alike": True,
+         "transplanted": "holds", "control": "brushes"} for s in range(6)]}))
+    check = tmp_path / "check"
+    check.mkdir()
+    (check / family.REFERENCE_CHECK).write_text("## The independent check\n\nPASS (made up)\n")
+    out = tmp_path / "page"
+    assert main(["sweep", "experiments", str(e3_folder), str(moved), str(check),
+                 "--out", str(out)]) == 0
+    text = (out / "experiments.md").read_text()
+    for key in ("E2-S", "E2-T", "E3-M", "E3-H", "E3-T"):
+        assert f"| {key} |" in text
+    assert "E1-N" not in text.split("## E1")[0]       # not run: left out of the family
+    assert "| transplanted | 6 | 1.00 [0.54, 1.00] (n=6) |" in text
+    assert "PASS (made up)" in text and "sweep **tiny-e3** (e3-modularity; 6 runs)" in text
+    assert f"experiments: {out / 'experiments.md'}" in capsys.readouterr().out
