@@ -36,6 +36,8 @@ SCREENED = {"2/2/4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
 FEWEST_SOURCES = 5        # E2-T is not judged on fewer holding champions
 RESAMPLES = 2000          # the seed-cluster bootstrap's resamples
 BOOTSTRAP = "Firth, seed-cluster bootstrap"
+TERM_NAMES = {"width": "log2 width", "weights": "log2 weights", "three_layer": "three-layer",
+              "range": "log2 weight range"}
 FAMILY = ("E1-N", "E1-W", "E1-A", "E1-S", "E2-S", "E2-T", "E2-O", "E2-P", "E3-M", "E3-H",
           "E3-T")
 
@@ -89,6 +91,22 @@ def clustered_fit(runs: list[dict], terms: tuple[str, ...], resamples: int = RES
                            len(runs), BOOTSTRAP) for term in terms}
 
 
+def fit_markdown(spec: SweepSpec, rows: list[dict], criteria: dict[str, Criterion]) -> list[str]:
+    """E1's coefficients: each with the seed-cluster bootstrap interval its verdict rests on
+    (from the criteria) and, beside it, the Firth fit's Wald interval, as registered."""
+    runs = runs_of(spec, rows)
+    terms = tuple(k for k in ("range", "weights", "width", "three_layer")
+                  if len({r[k] for r in runs}) > 1)
+    wald = firth_logistic(_columns(runs, terms), [r["holds"] for r in runs]).terms
+    lines = [f"| term (log odds) | estimate, {BOOTSTRAP} 95% CI | Firth Wald 95% CI |",
+             "|---|---|---|"]
+    for criterion in criteria.values():
+        term = next(t for t in terms if TERM_NAMES[t] in criterion.what)
+        lines.append(f"| {criterion.what} | {criterion.interval.text(2)} | "
+                     f"[{wald[term].lo:.2f}, {wald[term].hi:.2f}] |")
+    return lines + [""]
+
+
 def falls(what: str, coefficient: Estimate) -> Criterion:
     """A coefficient predicted < 0, absent within the log odds margin."""
     return Criterion(what, coefficient, high=0.0, margin=LOG_ODDS_MARGIN, null=True)
@@ -97,15 +115,15 @@ def falls(what: str, coefficient: Estimate) -> Criterion:
 def e1_width(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> dict[str, Criterion]:
     """E1-N, E1-W, E1-A: width, weights and three layers, each at equal values of the others."""
     fit = clustered_fit(runs_of(spec, rows), ("weights", "width", "three_layer"), resamples)
-    return {"E1-N": falls("log2 width coefficient", fit["width"]),
-            "E1-W": falls("log2 weights coefficient", fit["weights"]),
-            "E1-A": falls("three-layer coefficient", fit["three_layer"])}
+    return {"E1-N": falls(f"{TERM_NAMES['width']} coefficient", fit["width"]),
+            "E1-W": falls(f"{TERM_NAMES['weights']} coefficient", fit["weights"]),
+            "E1-A": falls(f"{TERM_NAMES['three_layer']} coefficient", fit["three_layer"])}
 
 
 def e1_range(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> dict[str, Criterion]:
     """E1-S: holding against the weight range at equal weights (saturation)."""
     fit = clustered_fit(runs_of(spec, rows), ("range", "weights"), resamples)
-    return {"E1-S": falls("log2 weight range coefficient", fit["range"])}
+    return {"E1-S": falls(f"{TERM_NAMES['range']} coefficient", fit["range"])}
 
 
 # -- E2: the screen, the transplant, the onset ------------------------------------------------

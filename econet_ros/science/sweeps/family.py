@@ -198,58 +198,101 @@ def e3_sentence(verdicts: dict[str, str]) -> str:
 
 
 # -- the page ------------------------------------------------------------------------------------
-def experiments_page(folders: list[Path], out: Path, against: Path | None = None,
-                     published: Path | None = None) -> Path:
-    """Write OUT/experiments.md and OUT/figures/; ``published``: where the sweeps' summaries
-    are published (linked when there)."""
-    found = gather(folders)
-    out = Path(out)
-    (out / "figures").mkdir(parents=True, exist_ok=True)
-    experiment_sweeps = [(f, s) for f, s in found.sweeps if isinstance(rule_of(s.spec), Experiment)]
+E1_RULES = ("e1-width", "e1-range")
+ONSET_RULES = ("e2-onset", "e2-population")
+
+
+@dataclass
+class Judgement:
+    """The family judged once: every hypothesis after Holm, the criteria of each experiment
+    sweep (by sweep name) and the screen's flags."""
+
+    judged: list[experiments.Judged]
+    by_sweep: dict[str, dict]
+    screened: dict[str, np.ndarray]
+
+    @property
+    def adjusted(self) -> dict[str, str]:
+        return {j.key: j.adjusted for j in self.judged}
+
+
+def judge(found: Folders) -> Judgement:
+    """E2's screen computed, the transplants' and the sweeps' criteria, Holm over them all."""
     screened = experiments.screen_all()
-    extra = dict(experiments.screen(screened["4/4/8"], screened["2/2/4"]))
+    criteria = dict(experiments.screen(screened["4/4/8"], screened["2/2/4"]))
     for _, record in found.transplants:
-        extra.update(experiments.transplant_kept(transplant.kept_flags(record)))
-    criteria = dict(extra)
-    for _, sweep in experiment_sweeps:
-        criteria.update(rule_of(sweep.spec).criteria(sweep))
-    judged = experiments.family(criteria)
-    adjusted = {j.key: j.adjusted for j in judged}
+        criteria.update(experiments.transplant_kept(transplant.kept_flags(record)))
+    by_sweep = {}
+    for _, sweep in found.sweeps:
+        rule = rule_of(sweep.spec)
+        if isinstance(rule, Experiment):
+            by_sweep[sweep.spec.name] = rule.criteria(sweep)
+            criteria.update(by_sweep[sweep.spec.name])
+    return Judgement(experiments.family(criteria), by_sweep, screened)
+
+
+def header_lines(found: Folders, out: Path, published: Path | None) -> list[str]:
+    """The title, the code of the page and of its runs, and each sweep with its summary."""
     runs = [(r["commit"], r["dirty"] is True) for _, s in found.sweeps for r in s.rows
             if r["generations_done"]]
     lines = ["# Experiments E1-E4 and the independent check\n",
              "Pre-registered in [preregistrations.md](../../preregistrations.md#experiments-e1-e4-"
              "and-an-independent-check-pre-registered-written-and-committed-before-any-of-their-"
              "runs) before any of their runs; each is reported as it fell.\n",
-             made_with(runs, [s.registration() for _, s in experiment_sweeps]) + "\n"]
+             made_with(runs, [s.registration() for _, s in found.sweeps]) + "\n"]
     for _, sweep in found.sweeps:
         link = (published / sweep.spec.name / "summary.md") if published else None
         where = (f"[its summary]({os.path.relpath(link, out)})" if link and link.exists()
                  else "its summary: econet sweep report")
         lines.append(f"- sweep **{sweep.spec.name}** ({sweep.spec.rule.get('name', 'no rule')}; "
                      f"{sum(bool(r['generations_done']) for r in sweep.rows)} runs): {where}")
-    lines += ["", "## The family: eleven hypotheses, Holm over all of them\n",
-              *experiments.family_table(judged), "",
-              "Verdicts: replicates / absent (inside the margin) / reversed / inconclusive; "
-              "n/a: not measured here.\n"]
-    figure = experiments_figure([(s.spec.name, rule_of(s.spec).name == "e1-range",
-                                  experiments.runs_of(s.spec, s.rows))
-                                 for _, s in experiment_sweeps
-                                 if rule_of(s.spec).name in ("e1-width", "e1-range")],
+    return lines + [""]
+
+
+def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
+    """E1's sentence, each fit's coefficients and the figure."""
+    e1 = [s for _, s in found.sweeps if s.spec.rule.get("name") in E1_RULES]
+    lines = ["## E1: width, weights or saturation\n",
+             e1_sentence(judgement.adjusted.get("E1-N", "n/a"),
+                         judgement.adjusted.get("E1-W", "n/a")) + "\n"]
+    for sweep in e1:
+        lines += [f"Sweep {sweep.spec.name}, Firth logistic regression of holding "
+                  f"({len(experiments.runs_of(sweep.spec, sweep.rows))} runs):\n",
+                  *experiments.fit_markdown(sweep.spec, sweep.rows,
+                                            judgement.by_sweep[sweep.spec.name])]
+    figure = experiments_figure([(s.spec.name, s.spec.rule["name"] == "e1-range",
+                                  experiments.runs_of(s.spec, s.rows)) for s in e1],
                                 out / "figures")
-    lines += ["## E1: width, weights or saturation\n",
-              e1_sentence(adjusted.get("E1-N", "n/a"), adjusted.get("E1-W", "n/a")) + "\n"]
-    if figure:
-        lines.append(f"![holding per cell]({figure.relative_to(out)})\n")
-    lines += ["## E2: discovery or maintenance\n", "The screen (random genomes, no evolution; "
-              "seeds 9201-9210):\n", *experiments.screen_markdown(screened), ""]
+    return lines + ([f"![holding per cell]({figure.relative_to(out)})\n"] if figure else [])
+
+
+def e2_lines(found: Folders, judgement: Judgement) -> list[str]:
+    """E2's screen, transplants, onsets and sentences."""
+    lines = ["## E2: discovery or maintenance\n", "The screen (random genomes, no evolution; "
+             "seeds 9201-9210):\n", *experiments.screen_markdown(judgement.screened), ""]
     for folder, record in found.transplants:
         lines += [f"The transplant ({folder.name}):\n", *transplant_markdown(record)]
-    for folder, sweep in experiment_sweeps:
-        if rule_of(sweep.spec).name in ("e2-onset", "e2-population"):
+    for folder, sweep in found.sweeps:
+        if sweep.spec.rule.get("name") in ONSET_RULES:
             lines += [f"Onset, sweep {sweep.spec.name}:\n", *onset_markdown(sweep, folder)]
-    lines += [*e2_sentences(adjusted), "", "## E3: modularity at equal weights and width\n",
-              e3_sentence(adjusted), ""]
+    return lines + [*e2_sentences(judgement.adjusted), ""]
+
+
+def experiments_page(folders: list[Path], out: Path, against: Path | None = None,
+                     published: Path | None = None) -> Path:
+    """Write OUT/experiments.md and OUT/figures/; ``published``: where the sweeps' summaries
+    are published (linked when there); ``against``: the claims.csv E4's claims are compared
+    with."""
+    found, out = gather(folders), Path(out)
+    (out / "figures").mkdir(parents=True, exist_ok=True)
+    judgement = judge(found)
+    lines = [*header_lines(found, out, published),
+             "## The family: eleven hypotheses, Holm over all of them\n",
+             *experiments.family_table(judgement.judged), "",
+             "Verdicts: replicates / absent (inside the margin) / reversed / inconclusive; "
+             "hypotheses whose experiment is not among the folders given are left out.\n",
+             *e1_lines(found, judgement, out), *e2_lines(found, judgement),
+             "## E3: modularity at equal weights and width\n", e3_sentence(judgement.adjusted), ""]
     for study in found.studies:
         lines += [f"## E4: the claims on fresh runs ({study.name})\n",
                   *claims_markdown(study, against)]
@@ -258,4 +301,3 @@ def experiments_page(folders: list[Path], out: Path, against: Path | None = None
     page = out / "experiments.md"
     page.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return page
-

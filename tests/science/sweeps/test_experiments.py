@@ -69,6 +69,16 @@ def test_holding_set_by_width_alone_replicates_e1_n_and_makes_weights_absent():
     assert found["E1-W"] in (ABSENT, INCONCLUSIVE) and found["E1-W"] != REPLICATES
 
 
+def test_the_fit_table_shows_each_coefficient_with_both_intervals():
+    rows = rows_for(WIDTH, lambda c, cond, w: logistic(6 - 3 * np.log2(width_of(c, cond))))
+    criteria = experiments.e1_width(WIDTH, rows, RESAMPLES)
+    lines = experiments.fit_markdown(WIDTH, rows, criteria)
+    assert len(lines) == 2 + 3 + 1
+    width = next(line for line in lines if line.startswith("| log2 width coefficient"))
+    assert criteria["E1-N"].interval.text(2) in width
+    assert width.count("[") == 2         # the bootstrap interval and the Wald one
+
+
 def test_holding_set_by_weights_alone_replicates_e1_w_not_e1_n():
     rows = rows_for(WIDTH, lambda c, cond, w: logistic(18 - 3 * np.log2(w)))
     found = judged(experiments.e1_width(WIDTH, rows, RESAMPLES))
