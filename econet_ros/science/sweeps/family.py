@@ -152,8 +152,13 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
 
 
 # -- the registered sentences --------------------------------------------------------------------
-def e1_sentence(width: str, weights: str) -> str:
+NOT_RUN = "Not among the folders given: not judged here."
+
+
+def e1_sentence(width: str | None, weights: str | None) -> str:
     """What the report says of E1-N (width) and E1-W (weights), as registered."""
+    if width is None or weights is None:
+        return NOT_RUN
     if width == REPLICATES and weights == ABSENT:
         return "The width of the last hidden layer, not the number of weights, decides holding."
     if weights == REPLICATES and width == ABSENT:
@@ -168,9 +173,12 @@ def e1_sentence(width: str, weights: str) -> str:
 
 
 def e2_sentences(verdicts: dict[str, str]) -> list[str]:
+    """What the report says of E2's hypotheses, as registered."""
     screen, kept = verdicts.get("E2-S"), verdicts.get("E2-T")
     said = []
-    if screen == REPLICATES and kept == REPLICATES:
+    if kept is None:
+        said.append("Without the transplant, discovery and maintenance are not told apart here.")
+    elif screen == REPLICATES and kept == REPLICATES:
         said.append("Discovery: random large nets rarely hold once in contact, and a large net "
                     "keeps holding when it is given it.")
     elif kept == REVERSED:
@@ -185,7 +193,10 @@ def e2_sentences(verdicts: dict[str, str]) -> list[str]:
 
 
 def e3_sentence(verdicts: dict[str, str]) -> str:
+    """What the report says of E3-M, as registered."""
     m = verdicts.get("E3-M")
+    if m is None:
+        return NOT_RUN
     if m == REPLICATES:
         return ("Splitting the senses helps at equal weights and width: the modular net's late "
                 "fitness is above the scrambled one's.")
@@ -253,8 +264,7 @@ def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
     """E1's sentence, each fit's coefficients and the figure."""
     e1 = [s for _, s in found.sweeps if s.spec.rule.get("name") in E1_RULES]
     lines = ["## E1: width, weights or saturation\n",
-             e1_sentence(judgement.adjusted.get("E1-N", "n/a"),
-                         judgement.adjusted.get("E1-W", "n/a")) + "\n"]
+             e1_sentence(judgement.adjusted.get("E1-N"), judgement.adjusted.get("E1-W")) + "\n"]
     for sweep in e1:
         lines += [f"Sweep {sweep.spec.name}, Firth logistic regression of holding "
                   f"({len(experiments.runs_of(sweep.spec, sweep.rows))} runs):\n",

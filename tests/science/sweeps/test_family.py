@@ -80,7 +80,9 @@ def test_the_registered_sentences_follow_the_adjusted_verdicts():
     assert family.e2_sentences({"E2-T": INCONCLUSIVE, "E2-O": REPLICATES})[1].endswith(
         "(E2-O replicates).")
     assert "does not replicate" in family.e3_sentence({"E3-M": ABSENT})
-    assert "inconclusive" in family.e3_sentence({})
+    assert "inconclusive" in family.e3_sentence({"E3-M": INCONCLUSIVE})
+    assert family.e3_sentence({}) == family.e1_sentence(None, ABSENT) == family.NOT_RUN
+    assert family.e2_sentences({"E2-S": REPLICATES})[0].startswith("Without the transplant")
 
 
 def test_the_onset_is_the_first_window_whose_top_20_hold(monkeypatch):
