@@ -42,6 +42,11 @@ def add_parser(commands) -> None:
                     "of the decision rule the spec names (its rule key), if any.")
     report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
     report.set_defaults(handler=_report)
+    _add_transplant(verbs)
+    _add_experiments(verbs)
+
+
+def _add_transplant(verbs) -> None:
     moved = verbs.add_parser(
         "transplant", help="larger nets started from the holding champions of a source sweep",
         description="For every finished run of SOURCE (a sweep of small four-layer nets under "
@@ -60,6 +65,9 @@ def add_parser(commands) -> None:
                             "each at least the source's (default: 4/4/8)")
     moved.add_argument("--quiet", action="store_true", help="no progress lines")
     moved.set_defaults(handler=_transplant)
+
+
+def _add_experiments(verbs) -> None:
     page = verbs.add_parser(
         "experiments", help="the page of the pre-registered experiments E1-E4 and the check",
         description="Judges the eleven hypotheses of the pre-registered experiments together "

@@ -11,10 +11,9 @@ import numpy as np
 import pytest
 
 from econet_ros.cli import main
-from econet_ros.runs import evolve_into
 from econet_ros.science.sweeps import experiments, family
-from econet_ros.science.sweeps.spec import load_spec, prepare_folder
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
+from sweep_helpers import evolved_sweep
 
 MODULARITY = '''
 name = "tiny-e3"
@@ -52,14 +51,7 @@ conditions = ["three-layer"]
 @pytest.fixture(scope="module")
 def e3_folder(tmp_path_factory) -> Path:
     """A tiny sweep under E3's rule, evolved in process."""
-    root = tmp_path_factory.mktemp("family")
-    (root / "e3.toml").write_text(MODULARITY)
-    spec = load_spec(root / "e3.toml")
-    out = root / "tiny-e3"
-    prepare_folder(spec, out)
-    for run in spec.runs():
-        evolve_into(run.folder(out), run.config, run.seed, 1)
-    return out
+    return evolved_sweep(MODULARITY, tmp_path_factory.mktemp("family"))
 
 
 def write_claims(path: Path, verdicts: dict[str, tuple[str, str]]) -> Path:

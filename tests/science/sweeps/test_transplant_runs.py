@@ -15,7 +15,7 @@ from econet_ros.evolution import initial_genomes
 from econet_ros.runs import RunData, evolve_into
 from econet_ros.science import holding
 from econet_ros.science.sweeps import transplant
-from econet_ros.science.sweeps.spec import load_spec, prepare_folder
+from sweep_helpers import evolved_sweep
 
 SOURCE = '''
 name = "source"
@@ -38,13 +38,7 @@ conditions = ["normal"]
 
 def source_sweep(folder: Path, code: str = "sign-magnitude") -> Path:
     """A finished tiny source sweep, evolved in process (no Ray)."""
-    (folder / "spec.toml").write_text(SOURCE.replace("CODE", code))
-    spec = load_spec(folder / "spec.toml")
-    out = folder / "source"
-    prepare_folder(spec, out)
-    for run in spec.runs():
-        evolve_into(run.folder(out), run.config, run.seed, 1)
-    return out
+    return evolved_sweep(SOURCE.replace("CODE", code), folder)
 
 
 @pytest.fixture(scope="module")
