@@ -192,20 +192,38 @@ def e2_sentences(verdicts: dict[str, str]) -> list[str]:
     return said
 
 
-def e3_sentence(verdicts: dict[str, str]) -> str:
-    """What the report says of E3-M, as registered."""
+E3_SIDE_SENTENCES = {   # E3-H and E3-T in words, by verdict; read beside E3-M's sentence
+    "E3-H": {REPLICATES: "The modular net holds more often than the scrambled one.",
+             ABSENT: "Modular and scrambled nets hold about equally often (within the margin).",
+             REVERSED: "The scrambled net holds more often than the modular one.",
+             INCONCLUSIVE: "Whether the modular net holds more often than the scrambled one "
+                           "stays inconclusive."},
+    "E3-T": {REPLICATES: "The modular net's late fitness is above the three-layer net's of its "
+                         "width (4 hidden units).",
+             ABSENT: "Against the three-layer net of its width (4 hidden units) the modular "
+                     "net's late fitness differs by less than the margin.",
+             REVERSED: "The three-layer net of its width (4 hidden units) does better than the "
+                       "modular net.",
+             INCONCLUSIVE: "Against the three-layer net of its width (4 hidden units) the "
+                           "modular net's late fitness stays inconclusive."},
+}
+
+
+def e3_sentences(verdicts: dict[str, str]) -> list[str]:
+    """What the report says of E3-M, as registered, then E3-H and E3-T in words."""
     m = verdicts.get("E3-M")
     if m is None:
-        return NOT_RUN
-    if m == REPLICATES:
-        return ("Splitting the senses helps at equal weights and width: the modular net's late "
-                "fitness is above the scrambled one's.")
-    if m == ABSENT:
-        return ("At equal weights and width, splitting the senses makes no difference to late "
-                "fitness beyond the margin: the paper's modularity claim does not replicate.")
-    if m == REVERSED:
-        return "At equal weights and width, the scrambled net does better: the claim is reversed."
-    return "Whether splitting the senses helps at equal weights and width stays inconclusive."
+        return [NOT_RUN]
+    said = {REPLICATES: "Splitting the senses helps at equal weights and width: the modular net's "
+                        "late fitness is above the scrambled one's.",
+            ABSENT: "At equal weights and width, splitting the senses makes no difference to late "
+                    "fitness beyond the margin: the paper's modularity claim does not replicate.",
+            REVERSED: "At equal weights and width, the scrambled net does better: the claim is "
+                      "reversed.",
+            INCONCLUSIVE: "Whether splitting the senses helps at equal weights and width stays "
+                          "inconclusive."}[m]
+    return [said, *(E3_SIDE_SENTENCES[key][verdicts[key]] for key in E3_SIDE_SENTENCES
+                    if key in verdicts)]
 
 
 # -- the page ------------------------------------------------------------------------------------
@@ -302,7 +320,8 @@ def experiments_page(folders: list[Path], out: Path, against: Path | None = None
              "Verdicts: replicates / absent (inside the margin) / reversed / inconclusive; "
              "hypotheses whose experiment is not among the folders given are left out.\n",
              *e1_lines(found, judgement, out), *e2_lines(found, judgement),
-             "## E3: modularity at equal weights and width\n", e3_sentence(judgement.adjusted), ""]
+             "## E3: modularity at equal weights and width\n",
+             " ".join(e3_sentences(judgement.adjusted)), ""]
     for study in found.studies:
         lines += [f"## E4: the claims on fresh runs ({study.name})\n",
                   *claims_markdown(study, against)]

@@ -71,9 +71,11 @@ def test_the_registered_sentences_follow_the_adjusted_verdicts():
     assert family.e2_sentences({"E2-S": REPLICATES, "E2-T": REVERSED})[0].startswith("Maintenance")
     assert family.e2_sentences({"E2-T": INCONCLUSIVE, "E2-O": REPLICATES})[1].endswith(
         "(E2-O replicates).")
-    assert "does not replicate" in family.e3_sentence({"E3-M": ABSENT})
-    assert "inconclusive" in family.e3_sentence({"E3-M": INCONCLUSIVE})
-    assert family.e3_sentence({}) == family.e1_sentence(None, ABSENT) == family.NOT_RUN
+    assert "does not replicate" in family.e3_sentences({"E3-M": ABSENT})[0]
+    assert "inconclusive" in family.e3_sentences({"E3-M": INCONCLUSIVE})[0]
+    both = family.e3_sentences({"E3-M": REVERSED, "E3-H": ABSENT, "E3-T": REVERSED})
+    assert len(both) == 3 and "equally often" in both[1] and "three-layer" in both[2]
+    assert family.e3_sentences({}) == [family.e1_sentence(None, ABSENT)] == [family.NOT_RUN]
     assert family.e2_sentences({"E2-S": REPLICATES})[0].startswith("Without the transplant")
 
 
