@@ -155,8 +155,27 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
 NOT_RUN = "Not among the folders given: not judged here."
 
 
-def e1_sentence(width: str | None, weights: str | None) -> str:
-    """What the report says of E1-N (width) and E1-W (weights), as registered."""
+E1_TERMS = {"E1-N": "width", "E1-W": "weights"}
+E1_MARGIN = 0.5       # log odds per doubling, as registered for every E1 coefficient
+
+
+def interval_allows(lo: float, hi: float, margin: float = E1_MARGIN) -> str:
+    """What a coefficient's interval leaves open, in words: no effect, a fall or a rise beyond
+    the margin (and which of the two it rules out)."""
+    opened = [word for word, open_ in (("no effect", lo <= 0 <= hi), (f"a fall beyond {margin}",
+              lo < -margin), (f"a rise beyond {margin}", hi > margin)) if open_]
+    shut = [word for word, shut_ in ((f"a fall of {margin} or more", lo >= -margin),
+            (f"a rise of {margin} or more", hi <= margin)) if shut_]
+    allows = " and ".join(opened) or "only a small effect"
+    return (f"[{lo:.2f}, {hi:.2f}] allows {allows}"
+            + (f" and rules out {' and '.join(shut)}" if shut else ""))
+
+
+def e1_sentence(width: str | None, weights: str | None,
+                intervals: dict[str, tuple[float, float]] | None = None) -> str:
+    """What the report says of E1-N (width) and E1-W (weights), as registered; for any other
+    combination it names the verdicts and, given the coefficients' intervals (log odds per
+    doubling), says what each undecided one allows."""
     if width is None or weights is None:
         return NOT_RUN
     if width == REPLICATES and weights == ABSENT:
@@ -168,8 +187,13 @@ def e1_sentence(width: str | None, weights: str | None) -> str:
     if width == weights == ABSENT:
         return ("Neither the width of the last hidden layer nor the number of weights moves "
                 "holding by more than the margin.")
-    return (f"Width: {width}; weights: {weights}. The intervals do not single out width or "
-            "weights as what decides holding; see the coefficients above.")
+    said = [f"Width: {width}; weights: {weights}. The intervals do not single out width or "
+            "weights as what decides holding"]
+    verdicts = {"E1-N": width, "E1-W": weights}
+    for key, (lo, hi) in (intervals or {}).items():
+        if verdicts[key] == INCONCLUSIVE:
+            said.append(f"the {E1_TERMS[key]} coefficient's interval {interval_allows(lo, hi)}")
+    return "; ".join(said) + "."
 
 
 def e2_sentences(verdicts: dict[str, str]) -> list[str]:
@@ -282,7 +306,9 @@ def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
     """E1's sentence, each fit's coefficients and the figure."""
     e1 = [s for _, s in found.sweeps if s.spec.rule.get("name") in E1_RULES]
     lines = ["## E1: width, weights or saturation\n",
-             e1_sentence(judgement.adjusted.get("E1-N"), judgement.adjusted.get("E1-W")) + "\n"]
+             e1_sentence(judgement.adjusted.get("E1-N"), judgement.adjusted.get("E1-W"),
+                         {j.key: (j.criterion.interval.lo, j.criterion.interval.hi)
+                          for j in judgement.judged if j.key in E1_TERMS}) + "\n"]
     for sweep in e1:
         lines += [f"Sweep {sweep.spec.name}, Firth logistic regression of holding "
                   f"({len(experiments.runs_of(sweep.spec, sweep.rows))} runs):\n",
