@@ -11,6 +11,7 @@ from cuda_helpers import needs_numba_cuda
 from econet_ros.config import Config
 from econet_ros.cuda import CudaEngine, CudaEvaluator
 from econet_ros.evolution import InProcessEvaluator, genome_weights, initial_genomes
+from econet_ros.science.study import run_with_behaviour
 
 pytestmark = needs_numba_cuda
 
@@ -82,3 +83,11 @@ def test_the_gpu_benchmark_runs_under_the_simulator(capsys):
     assert bench.main(["--simulate", "--generations", "2"]) == 0
     out = capsys.readouterr().out
     assert "2/2 runs" in out and "econet-cycles/s" in out
+
+
+def test_a_runs_behaviour_rows_equal_the_cpus(tmp_path):
+    config = tiny(**{"evolution.generations": 2})
+    for name, evaluator in (("cpu", InProcessEvaluator(config)), ("cuda", CudaEvaluator(config))):
+        run_with_behaviour(config, 5, 1, tmp_path / name, evaluator)
+    for name in ("behaviour.csv", "metrics.csv", "genomes.npy"):
+        assert (tmp_path / "cpu" / name).read_bytes() == (tmp_path / "cuda" / name).read_bytes()
