@@ -54,8 +54,8 @@ def _kernels():
     try:
         from . import cuda_kernels
     except ImportError as error:
-        raise DeviceError(f"--device cuda needs numba-cuda ({error}); install it with "
-                          "pip install \".[cuda]\" or use --device cpu") from None
+        raise DeviceError(f"--device cuda needs numba-cuda: pip install \".[cuda]\" in the "
+                          f"checkout, or use --device cpu ({error})") from None
     if not cuda_kernels.cuda.is_available():
         raise DeviceError("--device cuda: no CUDA GPU is usable here (numba-cuda found no "
                           "device or driver); use --device cpu")
