@@ -2,11 +2,13 @@
 
 ``CudaEngine.test_populations`` tests many populations (of many runs) in one kernel launch,
 one trial per GPU thread (econet_ros.cuda_kernels: the CPU kernels' own functions compiled by
-numba-cuda); ``CudaEvaluator`` is the Evaluator of runs.evolve_into on it, a batch of one.
-Trial starts, genome decoding, movement noise, selection and mutation stay on the host, drawn
-from the same NumPy streams as on the CPU, so a run's folder is the same file for file
-(docs/speed.md). numba-cuda is an extra (``pip install ".[cuda]"``); this module imports it only
-when a GPU is asked for, and says in one line when it cannot be had.
+numba-cuda); ``CudaEvaluator`` is the Evaluator of runs.evolve_into on it and, through
+``test_generations``, the BatchEvaluator with which runs.evolve_together advances many runs in
+one launch per generation. Trial starts, genome decoding, movement noise, selection and
+mutation stay on the host, drawn from the same NumPy streams as on the CPU, so a run's folder
+is the same file for file (docs/speed.md). numba-cuda is an extra (``pip install ".[cuda]"``);
+this module imports it only when a GPU is asked for, and says in one line when it cannot be
+had.
 """
 from __future__ import annotations
 
@@ -18,8 +20,9 @@ import numpy as np
 from .config import Config
 from .controllers import Controller
 from .errors import DeviceError
-from .evolution import (Evaluator, GenerationResult, InProcessEvaluator, generation_setups,
-                        genome_weights, noise_seed, score_generation)
+from .evolution import (BatchEvaluator, Evaluator, GenerationRequest, GenerationResult,
+                        InProcessEvaluator, generation_setups, genome_weights, noise_seed,
+                        score_generation)
 from .plugins import make_controller
 from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Trace,
                      TrialMeasures, WorldArrays)
@@ -83,6 +86,10 @@ class CudaEngine:
         self.config = config
         self.n_envs = e.population * e.trials
         self.controller = controller or make_controller(e.condition, self.n_envs, config)
+        if self.controller.compiled(1) is None:
+            raise DeviceError(f"{type(self.controller).__name__} has no compiled policy (it is "
+                              "called once per cycle), so it cannot run on a GPU; use --device "
+                              "cpu")
         self.geometry = Geometry.of(config.model)
         self.edges = [self._to_device(edge) for edge in self.geometry.window_edges()]
 
@@ -124,12 +131,7 @@ class CudaEngine:
     def _policy(self, weights: np.ndarray, seed: int) -> Policy:
         """A population's policy as trials.run_trials runs it (host arrays)."""
         self.controller.load(weights, seed)
-        compiled = self.controller.compiled(self.config.evolution.cycles)
-        if compiled is None:
-            raise DeviceError(f"{type(self.controller).__name__} has no compiled policy (it is "
-                              "called once per cycle), so it cannot run on a GPU; use --device "
-                              "cpu")
-        return Policy.of(compiled)
+        return Policy.of(self.controller.compiled(self.config.evolution.cycles))
 
     def _joined(self, policies: list[Policy]) -> Policy:
         """One policy for all populations side by side, on the device."""
@@ -171,9 +173,10 @@ class CudaEngine:
         return array if isinstance(array, np.ndarray) else array.copy_to_host()
 
 
-class CudaEvaluator(Evaluator):
-    """The Evaluator of runs.evolve_into on the GPU: each generation one launch of a batch of
-    one population, everything else as InProcessEvaluator does it."""
+class CudaEvaluator(BatchEvaluator):
+    """The Evaluator of runs.evolve_into on the GPU (each generation one launch), and a
+    BatchEvaluator, whose ``test_generations`` tests many runs' generations in one launch
+    (runs.evolve_together); trial starts, decoding and noise as InProcessEvaluator draws them."""
 
     def __init__(self, config: Config, controller: Controller | None = None):
         self.config = config
@@ -189,9 +192,17 @@ class CudaEvaluator(Evaluator):
 
     def test_generation(self, genomes: np.ndarray, seed: int, run: int, generation: int,
                         record: Record = False) -> GenerationResult:
+        return self.test_generations([(genomes, seed, run, generation)], record)[0]
+
+    def test_generations(self, requests: Sequence[GenerationRequest],
+                         record: Record = False) -> list[GenerationResult]:
+        """Every request's generation in one launch (a record: for a batch of one only)."""
         self.last = self.engine.test_populations(
-            [genome_weights(self.config, genomes)], [self.trial_setups(seed, run, generation)],
-            [noise_seed(seed, run, generation)], record)
-        result = score_generation(self.config, generation, genomes, self.last.measures[0])
-        result.trace = self.last.record
-        return result
+            [genome_weights(self.config, genomes) for genomes, *_ in requests],
+            [self.trial_setups(seed, run, generation) for _, seed, run, generation in requests],
+            [noise_seed(seed, run, generation) for _, seed, run, generation in requests], record)
+        results = [score_generation(self.config, generation, genomes, measures)
+                   for (genomes, _, _, generation), measures in zip(requests,
+                                                                    self.last.measures)]
+        results[0].trace = self.last.record
+        return results

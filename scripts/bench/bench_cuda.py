@@ -6,11 +6,12 @@ generation one kernel launch for all of them, and the identity check against the
     python scripts/bench/bench_cuda.py --simulate                       # tiny, numba's simulator
 
 For 1, 10, 100 and 340 runs (--runs) it evolves every run for --generations generations: each
-generation the trial starts, genome decoding and movement noise are drawn on the host as on the
-CPU, one launch tests every run's population (transfers included), and the GA breeds each run on
-the host. It prints the launch's ms per generation and econet-cycles per second (an econet-cycle
-is one trial's cycle), the host's ms per generation, the time of 200 generations at that pace,
-and the identity check: every run's last generation tested again on the CPU
+generation CudaEvaluator.test_generations tests every run's population in one launch (trial
+starts, genome decoding and movement noise drawn on the host as on the CPU, transfers and
+scoring included), then the GA breeds each run on the host. It prints the test's ms per
+generation and econet-cycles per second (an econet-cycle is one trial's cycle), the GA's ms per
+generation, the time of 200 generations at that pace (without writing result files), and the
+identity check: every run's last generation tested again on the CPU
 (InProcessEvaluator), with per-trial fitness, latency, separations and the final body, shoulder
 and elbow angles compared bit for bit. On a fresh machine the first launch compiles the kernel
 (printed apart) and the CPU check compiles the CPU kernels: all within 5 minutes on one GPU.
@@ -45,29 +46,29 @@ def main(argv: list[str] | None = None) -> int:
         os.environ["NUMBA_ENABLE_CUDASIM"] = "1"     # before numba.cuda is imported
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
     from econet_ros.config import Config
-    from econet_ros.cuda import CudaEngine
+    from econet_ros.cuda import CudaEvaluator
     from econet_ros.evolution import InProcessEvaluator
 
     config = Config().replace(**TINY) if args.simulate else Config()
     sizes = (1, 2) if args.simulate else tuple(int(r) for r in args.runs.split(","))
-    engine, cpu = CudaEngine(config), InProcessEvaluator(config)
+    gpu, cpu = CudaEvaluator(config), InProcessEvaluator(config)
     e = config.evolution
-    print(f"{'simulated GPU' if args.simulate else device_name(engine)}; runs of {e.population} "
+    print(f"{'simulated GPU' if args.simulate else device_name(gpu.engine)}; runs of {e.population} "
           f"econets x {e.trials} trials x {e.cycles} cycles, {args.generations} timed "
           "generations each")
     started = time.perf_counter()
-    evolve(engine, config, args.seed, 1, 1)
+    evolve(gpu, config, args.seed, 1, 1)
     print(f"first launch (compiles the kernel): {time.perf_counter() - started:.1f} s")
-    print(f"{'runs':>5} {'launch ms/gen':>14} {'econet-cycles/s':>16} {'host ms/gen':>12} "
+    print(f"{'runs':>5} {'test ms/gen':>12} {'econet-cycles/s':>16} {'GA ms/gen':>10} "
           f"{'200 gens s':>11}  identical to the CPU")
     all_equal = True
     for runs in sizes:
-        launch, host, last = evolve(engine, config, args.seed, runs, args.generations)
+        test, breed, last = evolve(gpu, config, args.seed, runs, args.generations)
         cycles = runs * e.population * e.trials * e.cycles
-        equal, differing = identity(cpu, last, args.seed)
+        equal, differing = identity(cpu, last)
         all_equal &= equal == runs
-        print(f"{runs:>5} {launch * 1e3:>14.1f} {cycles / launch:>16,.0f} {host * 1e3:>12.1f} "
-              f"{(launch + host) * 200:>11.1f}  {equal}/{runs} runs"
+        print(f"{runs:>5} {test * 1e3:>12.1f} {cycles / test:>16,.0f} {breed * 1e3:>10.1f} "
+              f"{(test + breed) * 200:>11.1f}  {equal}/{runs} runs"
               + (f" ({differing})" if differing else ""))
     return 0 if all_equal else 1
 
@@ -78,39 +79,34 @@ def device_name(engine) -> str:
     return f"GPU: {name}"
 
 
-def evolve(engine, config, seed: int, runs: int, generations: int):
-    """``generations`` generations of runs 1..runs, tested in one launch each; returns the mean
-    launch and host seconds per generation and the last generation tested (per run: genomes,
-    generation, the launch's measures and final state)."""
-    from econet_ros.evolution import (generation_setups, genome_weights, initial_genomes,
-                                      next_generation, noise_seed, score_generation)
+def evolve(evaluator, config, seed: int, runs: int, generations: int):
+    """``generations`` generations of runs 1..runs, tested in one launch each
+    (CudaEvaluator.test_generations: starts, decoding and noise drawn on the host, the launch,
+    the scoring) and bred on the host by the GA; returns the mean seconds per generation of the
+    test and of the breeding, and the last test (its requests and its launch's findings)."""
+    from econet_ros.evolution import initial_genomes, next_generation
     numbers = range(1, runs + 1)
-    genomes = [initial_genomes(config, engine.controller.n_params, seed, run)
-               for run in numbers]
-    launch = host = 0.0
+    genomes = [initial_genomes(config, evaluator.n_weights, seed, run) for run in numbers]
+    test = breed = 0.0
     for generation in range(generations):
         started = time.perf_counter()
-        weights = [genome_weights(config, g) for g in genomes]
-        setups = [generation_setups(config, seed, run, generation) for run in numbers]
-        noise = [noise_seed(seed, run, generation) for run in numbers]
-        prepared = time.perf_counter()
-        batch = engine.test_populations(weights, setups, noise)
+        requests = [(g, seed, run, generation) for g, run in zip(genomes, numbers)]
+        results = evaluator.test_generations(requests)
         tested = time.perf_counter()
-        last = (list(genomes), generation, batch)
-        genomes = [next_generation(config, score_generation(config, generation, g, m), seed,
-                                   run) for g, m, run in zip(genomes, batch.measures, numbers)]
-        launch += tested - prepared
-        host += (prepared - started) + (time.perf_counter() - tested)
-    return launch / generations, host / generations, last
+        genomes = [next_generation(config, result, seed, run)
+                   for result, run in zip(results, numbers)]
+        test += tested - started
+        breed += time.perf_counter() - tested
+    return test / generations, breed / generations, (requests, evaluator.last)
 
 
-def identity(cpu, last, seed: int) -> tuple[int, str]:
+def identity(cpu, last) -> tuple[int, str]:
     """How many runs' last generation the CPU tests to the same bits, and what differed (trials
     per quantity)."""
-    genomes, generation, batch = last
+    requests, batch = last
     equal, differing = 0, {}
-    for k, run_genomes in enumerate(genomes):
-        measures = cpu.test_generation(run_genomes, seed, k + 1, generation).measures
+    for k, request in enumerate(requests):
+        measures = cpu.test_generation(*request).measures
         same = True
         for name in ("fitness", "success", "latency", "separations", "body", "shoulder",
                      "elbow"):
