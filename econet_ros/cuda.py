@@ -26,7 +26,7 @@ from .evolution import (BatchEvaluator, Evaluator, GenerationRequest, Generation
 from .plugins import make_controller
 from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Trace,
                      TrialMeasures, WorldArrays)
-from .world import N_PROPRIO, Geometry, TrialSetup, check_setup
+from .world import Geometry, TrialSetup, check_setup
 
 DEVICES = ("cpu", "cuda")
 GPUS_PER_RUN = 0.125     # a sweep's run asks Ray for this share of a GPU: 8 runs share one
@@ -110,17 +110,16 @@ class CudaEngine:
         measures = self._to_device(np.zeros((3, n), dtype=np.int64))
         policy = self._joined(policies)
         kernels = self.kernels
-        kernel = kernels.trial_kernel(max(policy.buffer_size, self.geometry.visual_units
-                                          + N_PROPRIO + 1),
-                                      self.geometry.visual_units + N_PROPRIO + 1)
-        kernels.launch(kernel, n, on_device[0], self.geometry, policy, cycles, measures,
-                       on_device[1], on_device[2], record is True, record == "behaviour")
+        kernels.launch(kernels.kernel_for(policy, self.geometry), n, on_device[0], self.geometry,
+                       policy, cycles, measures, on_device[1], on_device[2], record is True,
+                       record == "behaviour")
         found = self._to_host(measures)
         shape = (len(weights), self.n_envs)
         fitness = found[kernels.FITNESS].reshape(shape)
         latency = found[kernels.LATENCY].reshape(shape)
         separations = found[kernels.SEPARATIONS].reshape(shape)
-        final = [self._to_host(on_device[0][k]).reshape(shape) for k in (0, 2, 3)]
+        final = [self._to_host(getattr(on_device[0], name)).reshape(shape)
+                 for name in ("body", "shoulder", "elbow")]
         kept = None
         if record:
             kept = type(trace if record is True else behaviour)(

@@ -20,20 +20,19 @@ from contextlib import contextmanager, nullcontext
 from typing import Iterator
 
 import numpy as np
+from numba import typeof
+
+from .config import Config
+from .controllers import forward_block
+from .plugins import make_controller
+from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, WorldArrays, env_cycle
+from .world import N_MOTOR, N_PROPRIO, Geometry
 
 if not hasattr(np, "row_stack"):       # numba-cuda 0.30.4 names it at import; NumPy 2.5 has not
     np.row_stack = np.vstack
 
 from numba import cuda                  # noqa: E402 - after the alias above
 from numba.cuda.core import config      # noqa: E402
-
-from numba import typeof               # noqa: E402
-
-from .config import Config              # noqa: E402
-from .controllers import forward_block  # noqa: E402
-from .plugins import make_controller    # noqa: E402
-from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, WorldArrays, env_cycle  # noqa: E402
-from .world import N_MOTOR, N_PROPRIO, Geometry  # noqa: E402
 
 THREADS_PER_BLOCK = 128
 SIMULATED = bool(config.ENABLE_CUDASIM)     # NUMBA_ENABLE_CUDASIM=1 when numba.cuda was imported
@@ -111,6 +110,13 @@ def trial_kernel(rows: int, n_inputs: int):
     return run_trials
 
 
+def kernel_for(policy: Policy, geometry: Geometry):
+    """The trial kernel for a policy's activation buffer (its network's; the senses alone for a
+    motor table) and the geometry's senses."""
+    n_inputs = geometry.visual_units + N_PROPRIO + 1
+    return trial_kernel(max(policy.buffer_size, n_inputs), n_inputs)
+
+
 def launch(kernel, n_envs: int, *args) -> None:
     """Run ``kernel`` over n_envs threads, compiled without contraction."""
     blocks = (n_envs + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
@@ -127,12 +133,11 @@ def trial_kernel_ptx(config: Config, cc: tuple[int, int] = (9, 0), contract: boo
     controller = make_controller(config.evolution.condition, n, config)
     policy = Policy.of(controller.compiled(config.evolution.cycles))
     geometry = Geometry.of(config.model)
-    n_inputs = geometry.visual_units + N_PROPRIO + 1
     state = np.zeros(n)
     world = WorldArrays(state, state, state, state, np.zeros((n, 2)), *geometry.window_edges())
     args = (world, geometry, policy, config.evolution.cycles, np.zeros((3, n), np.int64),
             NO_TRACE, NO_BEHAVIOUR, False, False)
-    kernel = trial_kernel(max(policy.buffer_size, n_inputs), n_inputs)
     with nullcontext() if contract else without_contraction():
-        ptx, _ = cuda.compile_ptx(kernel.py_func, tuple(typeof(a) for a in args), cc=cc)
+        ptx, _ = cuda.compile_ptx(kernel_for(policy, geometry).py_func,
+                                  tuple(typeof(a) for a in args), cc=cc)
     return ptx
