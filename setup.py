@@ -49,6 +49,9 @@ setup(
         'gym': ['gymnasium>=1.1,<2'],               # econet_ros/Reach-v0 and its vector env
         'bag': ['rosbags>=0.11,<1'],                # econet bag, econet evaluate --bag
         'view': ['foxglove-sdk>=0.30,<1'],          # the viewer node (needs ROS 2 as well)
+        # --device cuda; econet_ros.cuda_kernels turns off FMA contraction through numba-cuda's
+        # internals, so the range is the tested minor release
+        'cuda': ['numba-cuda>=0.30.4,<0.31'],
     },
     zip_safe=True,
     maintainer='econet developers',

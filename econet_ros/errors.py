@@ -46,3 +46,8 @@ class WireError(EconetError, ValueError):
 
 class GraphError(EconetError):
     """The node graph cannot do what was asked (a node refused a request, or vanished)."""
+
+
+class DeviceError(EconetError):
+    """A device (--device cuda) that cannot be used here: no numba-cuda, no GPU, or a
+    controller that cannot run on it."""

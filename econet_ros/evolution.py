@@ -14,7 +14,7 @@ in its place) what breeds them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
@@ -108,6 +108,20 @@ class Evaluator(Protocol):
         ``score_generation``. ``record`` is what the result's ``trace`` holds: False nothing
         (None), True the full per-cycle ``Trace``, "behaviour" the ``BehaviourRecord`` the
         study's behaviour rows are computed from."""
+
+
+GenerationRequest = tuple[np.ndarray, int, int, int]    # genomes, seed, run, generation
+
+
+@runtime_checkable
+class BatchEvaluator(Evaluator, Protocol):
+    """An Evaluator that also tests the generations of several runs at once (cuda.CudaEvaluator:
+    one launch), which ``runs.evolve_together`` advances side by side."""
+
+    def test_generations(self, requests: Sequence[GenerationRequest],
+                         record: Record = False) -> list[GenerationResult]:
+        """What ``test_generation(genomes, seed, run, generation, record)`` gives for each
+        request, in order."""
 
 
 class InProcessEvaluator(Evaluator):

@@ -1,6 +1,8 @@
 """Result folders and the one loop that fills them: ``evolve_into`` evolves (or resumes) a run
-into its folder with any evaluator (in process, or through the ROS graph); ``run_condition``
-does that for several runs with a progress bar; ``replay`` re-tests a stored generation.
+into its folder with any evaluator (in process, through the ROS graph, on a GPU), each
+generation through the run's ``RunEvolution``; ``evolve_together`` advances several runs side by
+side with an evaluator that tests them all at once (the GPU's); ``run_condition`` does either for
+several runs with a progress bar; ``replay`` re-tests a stored generation.
 
 A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .npy):
 
@@ -30,6 +32,7 @@ The folder above the run folders (``econet evolve --out``, the supervisor's ``ou
 """
 from __future__ import annotations
 
+import functools
 import json
 import shutil
 from contextlib import ExitStack, contextmanager
@@ -43,7 +46,7 @@ from . import genome as genome_codes
 from .config import Config, ConfigError
 from .controllers import Controller
 from .errors import ResultsError, UsageError
-from .evolution import Evaluator, GenerationResult, InProcessEvaluator
+from .evolution import BatchEvaluator, Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
                     remove_torn_writes, start_table, stored_whole_number, table_rows,
                     write_atomically, writing)
@@ -295,22 +298,80 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     the paper's GA only, whose offspring depend on nothing but their parents). Returns the
     run's generation count."""
     evaluator = evaluator or InProcessEvaluator(config)
-    n_weights = evaluator.n_weights
-    optimizer = make_optimizer(config, n_weights, seed, run)
-    with RunStore(folder, config, seed, run, n_weights) as store:
-        done, genomes = store.open(first_generation or optimizer.first_generation)
-        if done:
-            optimizer.catch_up(store.fitness_rows(done), genomes)
-        with recording_session(store.path, done, config.evolution.generations):
-            if on_open:
-                on_open(done)
-            for generation in range(done, config.evolution.generations):
-                result = evaluator.test_generation(genomes, seed, run, generation, record)
-                genomes = optimizer.breed(result)
-                store.write(result, genomes)
-                if on_generation:
-                    on_generation(result, genomes)
+    with RunEvolution(folder, config, seed, run, evaluator.n_weights,
+                      first_generation) as evolution:
+        if on_open:
+            on_open(evolution.generation)
+        while not evolution.finished:
+            result = evaluator.test_generation(evolution.genomes, seed, run,
+                                               evolution.generation, record)
+            evolution.advance(result)
+            if on_generation:
+                on_generation(result, evolution.genomes)
     return config.evolution.generations
+
+
+def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
+                    evaluator: BatchEvaluator,
+                    on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None
+                    = None) -> None:
+    """Evolve (or resume) the runs ``(folder, run number)`` side by side: each round every
+    unfinished run's next generation (runs resumed at different generations included) is tested
+    in one call of ``evaluator.test_generations``, then each is bred and written as evolve_into
+    does it, so every folder is the one evolve_into writes; on_generation(run, result,
+    offspring) after each."""
+    with ExitStack() as held:
+        evolutions = [held.enter_context(RunEvolution(folder, config, seed, run,
+                                                      evaluator.n_weights))
+                      for folder, run in runs]
+        while active := [evolution for evolution in evolutions if not evolution.finished]:
+            results = evaluator.test_generations([(e.genomes, seed, e.run, e.generation)
+                                                  for e in active])
+            for evolution, result in zip(active, results):
+                evolution.advance(result)
+                if on_generation:
+                    on_generation(evolution.run, result, evolution.genomes)
+
+
+class RunEvolution:
+    """One run being evolved in its folder: the folder held and opened (resumed where it
+    stopped), the optimizer caught up, a provenance session recorded; ``advance`` breeds and
+    writes each tested generation. What evolve_into and evolve_together do for every run."""
+
+    def __init__(self, folder: Path, config: Config, seed: int, run: int, n_weights: int,
+                 first_generation: Callable[[], np.ndarray] | None = None):
+        self.config, self.seed, self.run = config, seed, run
+        self._optimizer = make_optimizer(config, n_weights, seed, run)
+        self._store = RunStore(folder, config, seed, run, n_weights)
+        self._first_generation = first_generation or self._optimizer.first_generation
+        self._held = ExitStack()
+        self.generation, self.genomes = 0, np.empty(0)
+
+    def __enter__(self) -> "RunEvolution":
+        store = self._held.enter_context(self._store)
+        try:
+            self.generation, self.genomes = store.open(self._first_generation)
+            if self.generation:
+                self._optimizer.catch_up(store.fitness_rows(self.generation), self.genomes)
+            self._held.enter_context(recording_session(store.path, self.generation,
+                                                       self.config.evolution.generations))
+        except BaseException:
+            self._held.close()
+            raise
+        return self
+
+    def __exit__(self, *failure) -> None:
+        self._held.__exit__(*failure)       # a failure leaves the session unended, as it was
+
+    @property
+    def finished(self) -> bool:
+        return self.generation == self.config.evolution.generations
+
+    def advance(self, result: GenerationResult) -> None:
+        """Breed the tested generation ``result``, write both, move on to the offspring."""
+        self.genomes = self._optimizer.breed(result)
+        self._store.write(result, self.genomes)
+        self.generation += 1
 
 
 # -- provenance: which code wrote a run folder, and when ---------------------------------------
@@ -441,20 +502,27 @@ def run_condition(config: Config, runs: int, seed: int, out: Path, progress: boo
                   ) -> str:
     """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
     were interrupted, calling on_generation(run, result, offspring) after each generation;
-    returns a short human-readable summary."""
+    returns a short human-readable summary. An evaluator that tests many runs at once (a
+    BatchEvaluator: the GPU's) advances them all together (evolve_together), else they run one
+    after another (evolve_into); the folders are the same."""
     evaluator = evaluator or InProcessEvaluator(config)
     generations = config.evolution.generations
     done = sum(finished_generations(run_folder(out, run)) for run in range(1, runs + 1))
     with tqdm(total=runs * generations, initial=done, desc=config.evolution.condition,
               unit="gen", disable=not progress, dynamic_ncols=True) as bar:
-        for run in range(1, runs + 1):
-            def tick(result: GenerationResult, offspring: np.ndarray, run=run) -> None:
-                if on_generation:
-                    on_generation(run, result, offspring)
-                bar.set_postfix(run=run, top_fitness=f"{result.fitness[result.parents].mean():.0f}")
-                bar.update()
+        def tick(run: int, result: GenerationResult, offspring: np.ndarray) -> None:
+            if on_generation:
+                on_generation(run, result, offspring)
+            bar.set_postfix(run=run, top_fitness=f"{result.fitness[result.parents].mean():.0f}")
+            bar.update()
 
-            evolve_into(run_folder(out, run), config, seed, run, evaluator, tick)
+        if isinstance(evaluator, BatchEvaluator):
+            evolve_together([(run_folder(out, run), run) for run in range(1, runs + 1)], config,
+                            seed, evaluator, tick)
+        else:
+            for run in range(1, runs + 1):
+                evolve_into(run_folder(out, run), config, seed, run, evaluator,
+                            functools.partial(tick, run))
     return summarize(out, runs)
 
 

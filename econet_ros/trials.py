@@ -46,7 +46,7 @@ class TrialMeasures:
 
 class Trace(NamedTuple):
     """Everything that happened in a batch of trials, cycle by cycle. Both drivers write it
-    field by field, by name: a new field is a declaration here plus its lines in _record_row
+    field by field, by name: a new field is a declaration here plus its lines in record_row
     (the compiled loop) and _record_state (the per-cycle one).
 
     State arrays have cycles + 1 rows (row t = after t cycles, row 0 = the start); ``motor`` has
@@ -100,7 +100,7 @@ class BehaviourRecord(NamedTuple):
     """What the per-generation behaviour measures need of a batch of trials, gathered inside the
     compiled loop: a Trace would cost a study about as much again as the trials themselves.
     The loop writes it field by field, by name: a new measure is a name in CYCLE_VALUES or
-    PRE_CONTACT_COUNTS (or a field here), its lines in _tally_row, and its column in
+    PRE_CONTACT_COUNTS (or a field here), its lines in tally_row, and its column in
     science/measures.py.
     Per-cycle arrays have one row per cycle (C, n)."""
 
@@ -174,9 +174,9 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
     if policy is not None:
         behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else None
         contact = np.zeros((cycles, n), dtype=np.bool_)
-        _run_compiled(_WorldArrays.of(world), world.geometry, _Policy.of(policy), contact,
-                      trace=_NO_TRACE if trace is None else trace,
-                      behaviour=_NO_BEHAVIOUR if behaviour is None else behaviour,
+        _run_compiled(WorldArrays.of(world), world.geometry, Policy.of(policy), contact,
+                      trace=NO_TRACE if trace is None else trace,
+                      behaviour=NO_BEHAVIOUR if behaviour is None else behaviour,
                       record_trace=trace is not None, record_behaviour=behaviour is not None)
         world.cycle = cycles
         world.refresh()
@@ -194,8 +194,9 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
     return TrialMeasures.from_contact(contact), trace
 
 
-class _WorldArrays(NamedTuple):
-    """The world's per-environment arrays the compiled loop moves and senses."""
+class WorldArrays(NamedTuple):
+    """The world's per-environment arrays the compiled loop moves and senses (host arrays, or
+    device arrays for econet_ros.cuda)."""
 
     body: np.ndarray
     body_start: np.ndarray
@@ -206,13 +207,13 @@ class _WorldArrays(NamedTuple):
     edge_y: np.ndarray
 
     @classmethod
-    def of(cls, world: World) -> "_WorldArrays":
+    def of(cls, world: World) -> "WorldArrays":
         return cls(body=world.body, body_start=world.body_start, shoulder=world.shoulder,
                    elbow=world.elbow, object_xy=world.object_xy, edge_x=world.edges[0],
                    edge_y=world.edges[1])
 
 
-class _Policy(NamedTuple):
+class Policy(NamedTuple):
     """A CompiledPolicy as the compiled loop takes it: a motor table or the networks."""
 
     weights: np.ndarray
@@ -223,7 +224,7 @@ class _Policy(NamedTuple):
     use_table: bool
 
     @classmethod
-    def of(cls, policy: CompiledPolicy) -> "_Policy":
+    def of(cls, policy: CompiledPolicy) -> "Policy":
         use_table = policy.motor_table is not None
         return cls(weights=policy.weights, block=policy.block, layers=policy.layers,
                    buffer_size=policy.buffer_size,
@@ -232,8 +233,8 @@ class _Policy(NamedTuple):
 
 
 # Placeholders with the records' types, for compiled runs that record nothing.
-_NO_TRACE = Trace.empty(0, np.zeros((1, 2)))
-_NO_BEHAVIOUR = BehaviourRecord.empty(1, 1)
+NO_TRACE = Trace.empty(0, np.zeros((1, 2)))
+NO_BEHAVIOUR = BehaviourRecord.empty(1, 1)
 
 
 def _record_state(trace: Trace, row: int, world: World, obs) -> None:
@@ -247,7 +248,7 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
 
 
 @numba.njit(cache=True, inline="always")
-def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, trace):
+def record_row(row, i, b, s, e, touching, seen, gap, hx, hy, trace):
     """Write state row ``row`` of environment i into the trace (gap, hand tip: from sense)."""
     trace.body[row, i], trace.shoulder[row, i], trace.elbow[row, i] = b, s, e
     trace.hand[row, i, 0], trace.hand[row, i, 1] = hx, hy
@@ -256,7 +257,7 @@ def _record_row(row, i, b, s, e, touching, seen, gap, hx, hy, trace):
 
 
 @numba.njit(cache=True, inline="always")
-def _tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_gap,
+def tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_gap,
                touched, record):
     """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
     cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
@@ -341,8 +342,8 @@ def _gather_pooled(pre_contact, fixated, values, hand, top, every, group, speeds
 @numba.njit(cache=True, parallel=True)
 def _run_compiled(world, geo, policy, contact, trace, behaviour, record_trace, record_behaviour):
     """Whole trials, one block of environments that share a network per thread; the trace and
-    the behaviour record are written when asked for. world: _WorldArrays, geo: world.Geometry,
-    policy: _Policy."""
+    the behaviour record are written when asked for. world: WorldArrays, geo: world.Geometry,
+    policy: Policy."""
     for k in numba.prange(world.body.shape[0] // policy.block):
         _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace,
                    record_behaviour)
@@ -354,13 +355,11 @@ def _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace, r
     of the block), as in forward_block. A function of its own, not inlined into the parallel
     loop: numba loses writes to arrays reached through a tuple's fields inside a prange body
     (numba/numba#7135)."""
-    body, shoulder, elbow, body_start = world.body, world.shoulder, world.elbow, world.body_start
-    block, motor_table, use_table = policy.block, policy.motor_table, policy.use_table
+    block = policy.block
     n_inputs = geo.visual_units + 5
     cycles = contact.shape[0]
     first = k * block
     buffer = np.zeros((max(policy.buffer_size, n_inputs), block))
-    motor_rows = buffer.shape[0] - N_MOTOR
     total = np.zeros(block)
     senses = np.zeros(n_inputs)
     motor = np.zeros(N_MOTOR)
@@ -368,28 +367,44 @@ def _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace, r
     last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
     for t in range(cycles + 1):
         for m in range(block):
-            i = first + m
-            if t > 0:       # apply the command chosen from the previous observation
-                for u in range(N_MOTOR):
-                    motor[u] = motor_table[t - 1, i, u] if use_table else \
-                        buffer[motor_rows + u, m]
-                body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[0],
-                                                      motor[1], motor[2], motor[3], motor[4],
-                                                      geo, body_start[i])
-                if record_trace:
-                    trace.motor[t - 1, i, :] = motor
-            seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], world.object_xy[i, 0],
-                                      world.object_xy[i, 1], geo, world.edge_x, world.edge_y,
-                                      senses)
-            buffer[:n_inputs, m] = senses
-            touching = senses[n_inputs - 1] > 0.5
+            touching = env_cycle(t, first + m, m, world, geo, policy, buffer, senses, motor,
+                                 trace, behaviour, record_trace, record_behaviour, last_angles,
+                                 last_gap, touched)
             if t > 0:
-                contact[t - 1, i] = touching
-            if record_trace:
-                _record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
-                            trace)
-            if record_behaviour:
-                _tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
-                           motor, last_angles, last_gap, touched, behaviour)
-        if t < cycles and not use_table:
+                contact[t - 1, first + m] = touching
+        if t < cycles and not policy.use_table:
             forward_block(buffer[:, :], policy.weights[k], policy.layers, total)
+
+
+@numba.njit(cache=True, inline="always")
+def env_cycle(t, i, m, world, geo, policy, buffer, senses, motor, trace, behaviour,
+              record_trace, record_behaviour, last_angles, last_gap, touched):
+    """Cycle t of environment i, the m-th of its block (its activations: column m of
+    ``buffer``, whose last N_MOTOR rows are the outputs): apply the command chosen from the
+    previous observation (t > 0), sense into the buffer's input rows, record. Returns whether
+    the hand touches the object. The CPU's loop over blocks and the GPU's thread per trial
+    (econet_ros.cuda_kernels) both run trials through it."""
+    body, shoulder, elbow = world.body, world.shoulder, world.elbow
+    n_inputs = geo.visual_units + 5
+    if t > 0:       # apply the command chosen from the previous observation
+        motor_rows = buffer.shape[0] - N_MOTOR
+        for u in range(N_MOTOR):
+            motor[u] = policy.motor_table[t - 1, i, u] if policy.use_table else \
+                buffer[motor_rows + u, m]
+        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[0], motor[1],
+                                              motor[2], motor[3], motor[4], geo,
+                                              world.body_start[i])
+        if record_trace:
+            for u in range(N_MOTOR):
+                trace.motor[t - 1, i, u] = motor[u]
+    seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], world.object_xy[i, 0],
+                              world.object_xy[i, 1], geo, world.edge_x, world.edge_y, senses)
+    for j in range(n_inputs):
+        buffer[j, m] = senses[j]
+    touching = senses[n_inputs - 1] > 0.5
+    if record_trace:
+        record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy, trace)
+    if record_behaviour:
+        tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy, motor,
+                  last_angles, last_gap, touched, behaviour)
+    return touching

@@ -5,12 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..cuda import make_evaluator
 from ..errors import UsageError
-from ..evolution import InProcessEvaluator
+from ..evolution import Evaluator
 from ..plugins import resolve
 from ..runs import (CONTROLLER_FILE, controller_record, record_controller, run_condition,
                     writing_into)
-from .options import add_config_options, add_run_options, config_from
+from .options import add_config_options, add_device_option, add_run_options, config_from
 
 
 def add_parser(commands) -> None:
@@ -23,6 +24,7 @@ def add_parser(commands) -> None:
     parser.add_argument("--controller", metavar="NAME", default=None,
                         help="evolve this plug-in (registered name or module:Class, with "
                              "n_params > 0) instead of --condition's network")
+    add_device_option(parser)
     add_config_options(parser, ("evolution", "network", "model"))
     parser.set_defaults(handler=run)
 
@@ -30,7 +32,7 @@ def add_parser(commands) -> None:
 def run(args: argparse.Namespace) -> int:
     config = config_from(args)
     out = Path(args.out)
-    evaluator, record = _plugin_evaluator(args.controller, config)
+    evaluator, record = _evaluator(args.controller, config, args.device)
     with writing_into(out, overwrite=args.overwrite):
         record_controller(out, args.runs, record)
         print(run_condition(config, args.runs, args.seed, out, progress=not args.quiet,
@@ -41,11 +43,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plugin_evaluator(name: str | None, config) -> tuple[InProcessEvaluator | None, dict | None]:
-    """The evaluator of an evolvable plug-in and its run folders' controller record (None, None
-    for the condition's own network)."""
+def _evaluator(name: str | None, config, device: str) -> tuple[Evaluator, dict | None]:
+    """The evaluator on ``device`` of the condition's network or an evolvable plug-in, and the
+    run folders' controller record (None for the condition's own network)."""
     if name is None:
-        return None, None
+        return make_evaluator(config, device), None
     cls = resolve(name)
     e = config.evolution
     try:
@@ -55,4 +57,4 @@ def _plugin_evaluator(name: str | None, config) -> tuple[InProcessEvaluator | No
     if controller.n_params < 1:
         raise UsageError(f"controller '{name}' has nothing to evolve (n_params = "
                          f"{controller.n_params}); try econet evaluate --controller {name}")
-    return InProcessEvaluator(config, controller=controller), controller_record(name, controller)
+    return make_evaluator(config, device, controller), controller_record(name, controller)

@@ -7,6 +7,7 @@ import argparse
 import json
 
 from ..config import SETTINGS, Config, Setting, load_config
+from ..cuda import DEVICES
 from ..errors import UsageError
 
 
@@ -99,3 +100,11 @@ def add_run_options(parser: argparse.ArgumentParser, out: str) -> None:
     parser.add_argument("--overwrite", action="store_true",
                         help="replace results made with other settings instead of refusing")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def add_device_option(parser: argparse.ArgumentParser) -> None:
+    """--device: where the trials run; the results are the same files either way."""
+    parser.add_argument("--device", choices=DEVICES, default="cpu",
+                        help="where the trials run: cpu (default), or cuda, an NVIDIA GPU "
+                             "through numba-cuda (pip install \".[cuda]\"); the result files "
+                             "are the same either way (docs/speed.md)")

@@ -7,11 +7,13 @@ import os
 import time
 from pathlib import Path
 
+from ..cuda import require_device
 from ..errors import UsageError
 from ..runs import writing_into
 from ..science.report import build_report, report_paths
 from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, STUDY_RESULTS, StudySpec, run_study
-from .options import add_config_options, add_run_options, config_from, positive
+from .options import (add_config_options, add_device_option, add_run_options, config_from,
+                      positive)
 
 
 def add_parser(commands) -> None:
@@ -26,6 +28,7 @@ def add_parser(commands) -> None:
                        help="worker processes, each evolving one run at a time (default: every "
                             "CPU this process may use, %(default)s here; the results do not "
                             "depend on it)")
+    add_device_option(study)
     study.add_argument("--sensitivity", metavar="VARIANT", action="append",
                        help="also run a sensitivity variant (hidden-4-4-8, hidden-8-8-16, "
                             "object-radius-4, or all); repeatable; may be added to an "
@@ -64,6 +67,7 @@ def _add_report_options(parser: argparse.ArgumentParser, folder: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     config = config_from(args, **{"evolution.condition": "normal"})
+    require_device(args.device)
     variants = {}
     for name in args.sensitivity or []:
         if name == "all":
@@ -83,7 +87,8 @@ def run(args: argparse.Namespace) -> int:
         report_paths(out, args.report, args.figures)
         spec = StudySpec(config, args.runs, args.seed, variants,
                          args.sensitivity_runs if sensitivity else None)
-        seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet)
+        seconds = run_study(spec, out, jobs=args.jobs, progress=not args.quiet,
+                            device=args.device)
         print(f"evolution: {seconds / 60:.1f} min")
         return report(out, args.report, args.figures, args.sweep)
 

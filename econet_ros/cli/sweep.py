@@ -8,10 +8,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..cuda import require_device
 from ..errors import ResultsError
 from ..files import ensure_writable
 from ..science.sweeps.spec import load_spec
-from .options import Parser, positive
+from .options import Parser, add_device_option, positive
 
 
 def add_parser(commands) -> None:
@@ -33,6 +34,7 @@ def add_parser(commands) -> None:
     run.add_argument("--workers", type=positive, default=None,
                      help="local runs only: Ray workers (default: one per CPU)")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_device_option(run)
     run.set_defaults(handler=_run)
     report = verbs.add_parser(
         "report", help="tidy table, paired comparisons, figures and summary of a sweep folder",
@@ -90,8 +92,10 @@ def _run(args: argparse.Namespace) -> int:
     from ..science.sweeps.runner import run_sweep     # ray: late
     spec = load_spec(Path(args.spec))
     ensure_writable(Path(args.out))
+    if not args.address:                # a cluster's GPUs are on its workers, not here
+        require_device(args.device)
     done, total = run_sweep(spec, Path(args.out), address=args.address, workers=args.workers,
-                            progress=not args.quiet)
+                            progress=not args.quiet, device=args.device)
     print(f"sweep '{spec.name}': {done} run(s) done now, {total} in all, in {args.out} "
           f"(next: econet sweep report {args.out})")
     return 0

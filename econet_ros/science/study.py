@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import CONDITIONS, Config, ConfigError
+from ..cuda import make_evaluator
 from ..errors import ResultsError
 from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
@@ -212,14 +213,16 @@ def _worker_init() -> None:
         pass
 
 
-def _run_task(task) -> int:
+def _run_task(task, device: str = "cpu") -> int:
     config, seed, run, run_dir = task
-    return run_with_behaviour(config, seed, run, run_dir)
+    return run_with_behaviour(config, seed, run, run_dir, make_evaluator(config, device))
 
 
-def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) -> float:
+def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True,
+              device: str = "cpu") -> float:
     """Run (or resume) every run of the study (plus the variants an existing folder already
-    holds); returns the wall time in seconds."""
+    holds), testing populations on ``device`` (cuda.make_evaluator); returns the wall time in
+    seconds."""
     from tqdm import tqdm
 
     out = Path(out)
@@ -241,15 +244,15 @@ def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True) 
             for task in tasks:
                 bar.set_postfix_str(f"{task[0].evolution.condition} {task[3].parent.parent.name}"
                                     f"/run {task[2]}")
-                _run_task(task)
+                _run_task(task, device)
                 refresh()
         else:
-            _run_parallel(tasks, jobs, refresh)
+            _run_parallel(tasks, jobs, refresh, device)
         refresh()
     return time.time() - started
 
 
-def _run_parallel(tasks, jobs: int, refresh) -> None:
+def _run_parallel(tasks, jobs: int, refresh, device: str) -> None:
     import multiprocessing
 
     previous = os.environ.get("NUMBA_NUM_THREADS")
@@ -257,7 +260,7 @@ def _run_parallel(tasks, jobs: int, refresh) -> None:
     try:
         with ProcessPoolExecutor(max_workers=jobs, initializer=_worker_init,
                                  mp_context=multiprocessing.get_context("spawn")) as pool:
-            pending = {pool.submit(_run_task, task) for task in tasks}
+            pending = {pool.submit(_run_task, task, device) for task in tasks}
             while pending:
                 finished, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
                 for future in finished:

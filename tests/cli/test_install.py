@@ -107,6 +107,7 @@ def test_a_tiny_evolve_runs_in_the_fresh_install(venv, tmp_path):
     (("world_node",), "ROS 2 (rclpy)"),
     (("viewer_node",), "ROS 2 (rclpy)"),
     (("econet", "sweep", "run", str(SMOKE_SWEEP), "--out", "s"), 'pip install ".[sweep]"'),
+    (("econet", "evolve", "--device", "cuda", "--out", "e"), 'pip install ".[cuda]"'),
 ])
 def test_what_the_core_lacks_is_named_in_one_line(venv, tmp_path, command, needs):
     result = run(venv, *command, cwd=tmp_path)

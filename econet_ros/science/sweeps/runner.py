@@ -22,6 +22,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from ...config import Config
+from ...cuda import gpus_per_run, make_evaluator
 from ...errors import UsageError
 from ...provenance import SHIPPED, shipped
 from ...runs import evolve_into
@@ -32,18 +33,19 @@ from .spec import finished, prepare_folder
 TASK_RETRIES = 3       # a run whose worker process dies is started again up to this often
 
 
-def evolve_run(config: dict, seed: int, behaviour: bool) -> dict[str, bytes]:
-    """One run, evolved where the task runs (one kernel thread: workers share the cores);
-    returns its folder's files by name."""
+def evolve_run(config: dict, seed: int, behaviour: bool, device: str = "cpu") -> dict[str, bytes]:
+    """One run, evolved where the task runs (one kernel thread: workers share the cores),
+    its trials tested on ``device``; returns its folder's files by name."""
     import numba
     numba.set_num_threads(1)
     with tempfile.TemporaryDirectory(prefix="econet-run-") as tmp:
         folder = Path(tmp) / "run"
         settings = Config.from_dict(config)
+        evaluator = make_evaluator(settings, device)
         if behaviour:
-            run_with_behaviour(settings, seed, 1, folder)
+            run_with_behaviour(settings, seed, 1, folder, evaluator)
         else:
-            evolve_into(folder, settings, seed, 1)
+            evolve_into(folder, settings, seed, 1, evaluator)
         return {path.name: path.read_bytes() for path in sorted(folder.iterdir())
                 if not path.name.startswith(".")}             # results, not the run's lock
 
@@ -60,8 +62,10 @@ def write_run(folder: Path, files: dict[str, bytes]) -> None:
 
 
 def run_sweep(spec: SweepSpec, out: Path, address: str | None = None,
-              workers: int | None = None, progress: bool = True) -> tuple[int, int]:
-    """Run (or finish) every run of the sweep into ``out``; returns (runs done now, runs in
+              workers: int | None = None, progress: bool = True,
+              device: str = "cpu") -> tuple[int, int]:
+    """Run (or finish) every run of the sweep into ``out``, its trials tested on ``device``
+    (a run on cuda asks Ray for cuda.gpus_per_run of a GPU); returns (runs done now, runs in
     all)."""
     out = Path(out)
     prepare_folder(spec, out)
@@ -76,9 +80,10 @@ def run_sweep(spec: SweepSpec, out: Path, address: str | None = None,
         same.setdefault((run.config.to_json(), run.seed), []).append(run)
     ray = _connect(address, workers)
     try:
-        task = ray.remote(num_cpus=1, max_retries=TASK_RETRIES)(evolve_run)
-        futures = {task.remote(twins[0].config.to_dict(), twins[0].seed, spec.behaviour): twins
-                   for twins in same.values()}
+        task = ray.remote(num_cpus=1, num_gpus=gpus_per_run(device),
+                          max_retries=TASK_RETRIES)(evolve_run)
+        futures = {task.remote(twins[0].config.to_dict(), twins[0].seed, spec.behaviour,
+                               device): twins for twins in same.values()}
         with tqdm(total=len(runs), initial=len(runs) - len(pending), unit="run",
                   desc=f"sweep {spec.name}", disable=not progress, dynamic_ncols=True) as bar:
             while futures:
