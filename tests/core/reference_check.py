@@ -36,6 +36,7 @@ from econet_ros.config import Config
 from econet_ros.errors import EconetError
 from econet_ros.evolution import (InProcessEvaluator, generation_setups, initial_genomes,
                                   next_generation)
+from econet_ros.files import write_atomically
 from econet_ros.runs import RunData, read_controller_record
 from econet_ros.science import holding
 from econet_ros.science.sweeps.spec import load_sweep
@@ -46,7 +47,7 @@ EXPLAINED_SHARE = 0.01    # explained partings allowed, of all trials checked
 RUN = 1                   # a sweep evolves every (cell, condition, seed) as run 1 of its seed
 
 
-# -- one trial and one econet through the reference ------------------------------------------------
+# -- one trial and one econet through the reference -----------------------------------------------
 def reference_trials(config: Config, codes, setups: TrialSetup, envs, motor_table=None
                      ) -> list[ref.Trial]:
     """The reference's trials of one econet (genome ``codes``) in environments ``envs``."""
@@ -172,7 +173,7 @@ def check_sweep(folder: Path, starmap: Starmap) -> list[RunCheck]:
     return starmap(check_run, sweep_runs(folder))
 
 
-# -- the verdict ------------------------------------------------------------------------------------
+# -- the verdict ----------------------------------------------------------------------------------
 def verdict(checks: list[RunCheck]) -> tuple[bool, list[str]]:
     """PASS or FAIL, and every reason it fails."""
     reasons = [f"{c.run}: {c.problem}" for c in checks if c.problem]
@@ -206,7 +207,7 @@ def tally(checks: list[RunCheck]) -> dict:
             "stored_agreeing": sum(sum(c.reference) == c.stored for c in checked)}
 
 
-# -- end to end: whole runs through the reference ---------------------------------------------------
+# -- end to end: whole runs through the reference -------------------------------------------------
 def parse_seeds(text: str) -> list[int]:
     """'9501-9503' or '9501,9502,9503'."""
     try:
@@ -289,13 +290,13 @@ def write_outputs(args, checks, runs_end_to_end: dict) -> bool:
     passed, reasons = verdict(checks)
     passed = passed and all(all(a) for a in runs_end_to_end.values())
     if args.json:
-        Path(args.json).write_text(json.dumps(
+        write_atomically(Path(args.json), json.dumps(
             {"folder": str(args.folder), "pass": passed, "reasons": reasons,
              "tally": tally(checks), "runs": [asdict(c) for c in checks],
-             "end_to_end": runs_end_to_end}, indent=2) + "\n", encoding="utf-8")
+             "end_to_end": runs_end_to_end}, indent=2) + "\n")
     if args.markdown:
-        Path(args.markdown).write_text(markdown(Path(args.folder), checks, passed, reasons,
-                                                runs_end_to_end), encoding="utf-8")
+        write_atomically(Path(args.markdown), markdown(Path(args.folder), checks, passed,
+                                                       reasons, runs_end_to_end))
     return passed
 
 
@@ -306,8 +307,9 @@ def arguments(argv) -> argparse.Namespace:
     parser.add_argument("--markdown", help="write the experiments' page section here "
                         "(reference-check.md in a folder given to econet sweep experiments)")
     parser.add_argument("--processes", type=int, default=1, help="worker processes")
-    parser.add_argument("--end-to-end", metavar="SEEDS", type=parse_seeds, help="also evolve these seeds (e.g. "
-                        "9501-9503) through the reference at the default settings")
+    parser.add_argument("--end-to-end", metavar="SEEDS", type=parse_seeds,
+                        help="also evolve these seeds (e.g. 9501-9503) through the reference "
+                        "at the default settings")
     parser.add_argument("--generations", type=int, default=20,
                         help="generations of each end-to-end run (20)")
     return parser.parse_args(argv)
