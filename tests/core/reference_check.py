@@ -248,7 +248,7 @@ def end_to_end(config: Config, seed: int, starmap: Starmap, report) -> list[bool
         fitness = np.array(starmap(score_econet, [
             (config, codes, setups, range(k * e.trials, (k + 1) * e.trials))
             for k, codes in enumerate(genomes)]))
-        best = min(range(len(fitness)), key=lambda k: (-fitness[k], k))
+        best = ref_evolution.ranked(fitness)[0]
         agreed.append(bool(np.array_equal(genomes[best], engine_champion)))
         report(generation, agreed[-1])
         genomes = ref_evolution.offspring(config, genomes, fitness, seed, RUN, generation)
