@@ -118,6 +118,13 @@ def test_the_verdict_follows_the_registered_rule():
     assert not check.verdict([made_up([], ("holds", "brushes"))])[0]
 
 
+def test_end_to_end_runs_pass_only_when_whole_and_alike():
+    assert check.end_to_end_reasons({1: [True, True]}, 2) == []
+    assert check.end_to_end_reasons({1: [True, False, False], 2: []}, 3) == [
+        "end to end, seed 1: the champions differ in generations [1, 2]",
+        "end to end, seed 2: 0 of 3 generations run"]
+
+
 def test_the_section_goes_into_the_experiments_page(sweep, tmp_path, monkeypatch):
     folder = tmp_path / "check"
     folder.mkdir()
