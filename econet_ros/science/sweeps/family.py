@@ -155,7 +155,14 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
 NOT_RUN = "Not among the folders given: not judged here."
 
 
-E1_TERMS = {"E1-N": "width", "E1-W": "weights"}
+E1_TERMS = {"E1-N": ("width", "the last hidden layer widens"),
+            "E1-W": ("weights", "the weights grow in number")}
+E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registered sentence
+    REPLICATES: "at equal everything else, holding falls as {change}",
+    ABSENT: "the {term} moves holding by less than the margin",
+    REVERSED: "at equal everything else, holding rises as {change}",
+    INCONCLUSIVE: "the {term} coefficient's interval {allows}",
+}
 E1_MARGIN = 0.5       # log odds per doubling, as registered for every E1 coefficient
 
 
@@ -187,12 +194,12 @@ def e1_sentence(width: str | None, weights: str | None,
     if width == weights == ABSENT:
         return ("Neither the width of the last hidden layer nor the number of weights moves "
                 "holding by more than the margin.")
-    said = [f"Width: {width}; weights: {weights}. The intervals do not single out width or "
-            "weights as what decides holding"]
+    said = [f"Width: {width}; weights: {weights}"]
     verdicts = {"E1-N": width, "E1-W": weights}
     for key, (lo, hi) in (intervals or {}).items():
-        if verdicts[key] == INCONCLUSIVE:
-            said.append(f"the {E1_TERMS[key]} coefficient's interval {interval_allows(lo, hi)}")
+        term, change = E1_TERMS[key]
+        said.append(E1_UNREGISTERED[verdicts[key]].format(
+            term=term, change=change, allows=interval_allows(lo, hi)))
     return "; ".join(said) + "."
 
 
@@ -292,13 +299,14 @@ def header_lines(found: Folders, out: Path, published: Path | None) -> list[str]
              "Pre-registered in [preregistrations.md](../../preregistrations.md#experiments-e1-e4-"
              "and-an-independent-check-pre-registered-written-and-committed-before-any-of-their-"
              "runs) before any of their runs; each is reported as it fell.\n",
-             made_with(runs, [s.registration() for _, s in found.sweeps]) + "\n"]
+             made_with(runs) + "\n"]
     for _, sweep in found.sweeps:
         link = (published / sweep.spec.name / "summary.md") if published else None
         where = (f"[its summary]({os.path.relpath(link, out)})" if link and link.exists()
                  else "its summary: econet sweep report")
         lines.append(f"- sweep **{sweep.spec.name}** ({sweep.spec.rule.get('name', 'no rule')}; "
-                     f"{sum(bool(r['generations_done']) for r in sweep.rows)} runs): {where}")
+                     f"{sum(bool(r['generations_done']) for r in sweep.rows)} runs): {where}. "
+                     + sweep.registration())
     return lines + [""]
 
 
