@@ -24,7 +24,7 @@ from .evolution import (BatchEvaluator, Evaluator, GenerationRequest, Generation
                         InProcessEvaluator, generation_setups, genome_weights, noise_seed,
                         score_generation)
 from .plugins import make_controller
-from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Trace,
+from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Tally, Trace,
                      TrialMeasures, WorldArrays)
 from .world import Geometry, TrialSetup, check_setup
 
@@ -106,26 +106,22 @@ class CudaEngine:
         n = len(state.body)
         trace = Trace.empty(cycles, state.object_xy) if record is True else NO_TRACE
         behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else NO_BEHAVIOUR
-        on_device = [self._tuple_to_device(value) for value in (state, trace, behaviour)]
-        measures = self._to_device(np.zeros((3, n), dtype=np.int64))
+        on_device = [self._tuple_to_device(value)
+                     for value in (state, Tally.empty(n), trace, behaviour)]
         policy = self._joined(policies)
         kernels = self.kernels
         kernels.launch(kernels.kernel_for(policy, self.geometry), n, on_device[0], self.geometry,
-                       policy, cycles, measures, on_device[1], on_device[2], record is True,
-                       record == "behaviour")
-        found = self._to_host(measures)
+                       policy, cycles, *on_device[1:], record is True, record == "behaviour")
         shape = (len(weights), self.n_envs)
-        fitness = found[kernels.FITNESS].reshape(shape)
-        latency = found[kernels.LATENCY].reshape(shape)
-        separations = found[kernels.SEPARATIONS].reshape(shape)
+        found = Tally(*(self._to_host(a).reshape(shape) for a in on_device[1]))
         final = [self._to_host(getattr(on_device[0], name)).reshape(shape)
                  for name in ("body", "shoulder", "elbow")]
         kept = None
         if record:
             kept = type(trace if record is True else behaviour)(
-                *(self._to_host(a) for a in on_device[1 if record is True else 2]))
-        return TestedBatch([TrialMeasures(f, f > 0, la, s)
-                            for f, la, s in zip(fitness, latency, separations)], *final, kept)
+                *(self._to_host(a) for a in on_device[2 if record is True else 3]))
+        return TestedBatch([TrialMeasures.from_tally(Tally(*(a[p] for a in found)))
+                            for p in range(len(weights))], *final, kept)
 
     def _policy(self, weights: np.ndarray, seed: int) -> Policy:
         """A population's policy as trials.run_trials runs it (host arrays)."""

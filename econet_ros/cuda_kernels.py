@@ -1,7 +1,7 @@
 """The trial kernel for NVIDIA GPUs: one thread runs one trial, through the CPU kernels' own
-functions (trials.env_cycle: move, sense, the trace and behaviour records; controllers.
-forward_block: the network), which numba-cuda compiles for the GPU, so there is no second copy
-of the physics. Imported only by econet_ros.cuda, and only when a GPU is asked for.
+function (trials.run_block_trials: move, sense, the network, the contact tally, the trace and
+behaviour records), which numba-cuda compiles for the GPU, so there is no second copy of the
+physics. Imported only by econet_ros.cuda, and only when a GPU is asked for.
 
 Bit for bit as on the CPU: NVVM contracts a * b + c into one fused multiply-add by default,
 which rounds once where the CPU code rounds twice, and the results drift. numba-cuda 0.30.4 has
@@ -23,9 +23,8 @@ import numpy as np
 from numba import typeof
 
 from .config import Config
-from .controllers import forward_block
 from .plugins import make_controller
-from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, WorldArrays, env_cycle
+from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, Tally, WorldArrays, run_block_trials
 from .world import N_MOTOR, N_PROPRIO, Geometry
 
 if not hasattr(np, "row_stack"):       # numba-cuda 0.30.4 names it at import; NumPy 2.5 has not
@@ -37,7 +36,6 @@ from numba.cuda.core import config      # noqa: E402
 THREADS_PER_BLOCK = 128
 SIMULATED = bool(config.ENABLE_CUDASIM)     # NUMBA_ENABLE_CUDASIM=1 when numba.cuda was imported
 JIT_OPTIONS = {} if SIMULATED else {"lto": False}      # the simulator links nothing
-FITNESS, LATENCY, SEPARATIONS = range(3)     # rows of the kernel's per-trial measures
 
 
 @contextmanager
@@ -65,11 +63,11 @@ def without_contraction() -> Iterator[None]:
 def trial_kernel(rows: int, n_inputs: int):
     """The kernel for activation buffers of ``rows`` rows (inputs, hidden units, outputs; at
     least the ``n_inputs`` senses): thread i runs environment i's whole trial, with the
-    network ``i // policy.block``, and writes its fitness, latency and separations into
-    measures[:, i] (the definitions of trials.TrialMeasures.from_contact)."""
+    network ``i // policy.block``, and counts its fitness, latency and separations into
+    element i of ``tally`` (a trials.Tally)."""
 
     @cuda.jit(**JIT_OPTIONS)
-    def run_trials(world, geo, policy, cycles, measures, trace, behaviour, record_trace,
+    def run_trials(world, geo, policy, cycles, tally, trace, behaviour, record_trace,
                    record_behaviour):
         i = cuda.grid(1)
         if i >= world.body.shape[0]:
@@ -88,24 +86,9 @@ def trial_kernel(rows: int, n_inputs: int):
         for j in range(3):
             last_angles[0, j] = 0.0
         last_gap[0], touched[0] = 0.0, False
-        fitness, latency, separations, touched_before = 0, cycles, 0, False
-        for t in range(cycles + 1):
-            touching = env_cycle(t, i, 0, world, geo, policy, buffer, senses, motor, trace,
-                                 behaviour, record_trace, record_behaviour, last_angles,
-                                 last_gap, touched)
-            if t > 0:
-                if touching:
-                    fitness += 1
-                    if fitness == 1:
-                        latency = t
-                elif touched_before:
-                    separations += 1
-                touched_before = touching
-            if t < cycles and not policy.use_table:
-                forward_block(buffer, policy.weights[i // policy.block], policy.layers, total)
-        measures[FITNESS, i] = fitness
-        measures[LATENCY, i] = latency
-        measures[SEPARATIONS, i] = separations
+        run_block_trials(i, i // policy.block, world, geo, policy, cycles, buffer, total, senses,
+                         motor, last_angles, last_gap, touched, tally, trace, behaviour,
+                         record_trace, record_behaviour)
 
     return run_trials
 
@@ -135,8 +118,7 @@ def trial_kernel_ptx(config: Config, cc: tuple[int, int] = (9, 0), contract: boo
     geometry = Geometry.of(config.model)
     state = np.zeros(n)
     world = WorldArrays(state, state, state, state, np.zeros((n, 2)), *geometry.window_edges())
-    args = (world, geometry, policy, config.evolution.cycles, np.zeros((3, n), np.int64),
-            NO_TRACE, NO_BEHAVIOUR, False, False)
+    args = (world, geometry, policy, config.evolution.cycles, Tally.empty(n), NO_TRACE, NO_BEHAVIOUR, False, False)
     with nullcontext() if contract else without_contraction():
         ptx, _ = cuda.compile_ptx(kernel_for(policy, geometry).py_func,
                                   tuple(typeof(a) for a in args), cc=cc)

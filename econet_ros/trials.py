@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from .controllers import CompiledPolicy, Controller, forward_block
-from .world import N_MOTOR, TrialSetup, World, move, sense
+from .world import N_MOTOR, N_PROPRIO, TrialSetup, World, move, sense
 
 
 @dataclass
@@ -34,6 +34,11 @@ class TrialMeasures:
         separations = (contact[:-1] & ~contact[1:]).sum(axis=0)
         return cls(contact.sum(axis=0), success, latency, separations)
 
+    @classmethod
+    def from_tally(cls, tally: "Tally") -> "TrialMeasures":
+        """Measures from the counts the compiled loops keep."""
+        return cls(tally.fitness, tally.fitness > 0, tally.latency, tally.separations)
+
     def table(self) -> str:
         """Summary lines over all trials, for people (econet evaluate, econet bag measures)."""
         n = len(self.fitness)
@@ -42,6 +47,20 @@ class TrialMeasures:
                 f"fitness      mean {np.mean(self.fitness):.1f} cycles in contact\n"
                 f"latency      mean {np.mean(self.latency):.1f} cycles to first contact\n"
                 f"separations  mean {np.mean(self.separations):.2f} per trial")
+
+
+class Tally(NamedTuple):
+    """The contact counts the compiled loops keep per trial (tally_contact), as
+    TrialMeasures.from_contact defines them; success is fitness > 0."""
+
+    fitness: np.ndarray         # (n,) int64
+    latency: np.ndarray
+    separations: np.ndarray
+
+    @classmethod
+    def empty(cls, n: int) -> "Tally":
+        """Counts to fill: the loops start every trial's count (start_tally)."""
+        return cls(*(np.empty(n, dtype=np.int64) for _ in cls._fields))
 
 
 class Trace(NamedTuple):
@@ -173,14 +192,14 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
     trace = Trace.empty(cycles, world.object_xy) if record is True else None
     if policy is not None:
         behaviour = BehaviourRecord.empty(cycles, n) if record == "behaviour" else None
-        contact = np.zeros((cycles, n), dtype=np.bool_)
-        _run_compiled(WorldArrays.of(world), world.geometry, Policy.of(policy), contact,
+        tally = Tally.empty(n)
+        _run_compiled(WorldArrays.of(world), world.geometry, Policy.of(policy), cycles, tally,
                       trace=NO_TRACE if trace is None else trace,
                       behaviour=NO_BEHAVIOUR if behaviour is None else behaviour,
                       record_trace=trace is not None, record_behaviour=behaviour is not None)
         world.cycle = cycles
         world.refresh()
-        return TrialMeasures.from_contact(contact), trace if behaviour is None else behaviour
+        return TrialMeasures.from_tally(tally), trace if behaviour is None else behaviour
     contact = np.zeros((cycles, n), dtype=bool)
     if trace is not None:
         _record_state(trace, 0, world, obs)
@@ -340,71 +359,97 @@ def _gather_pooled(pre_contact, fixated, values, hand, top, every, group, speeds
 
 
 @numba.njit(cache=True, parallel=True)
-def _run_compiled(world, geo, policy, contact, trace, behaviour, record_trace, record_behaviour):
+def _run_compiled(world, geo, policy, cycles, tally, trace, behaviour, record_trace,
+                  record_behaviour):
     """Whole trials, one block of environments that share a network per thread; the trace and
     the behaviour record are written when asked for. world: WorldArrays, geo: world.Geometry,
-    policy: Policy."""
+    policy: Policy, tally: Tally."""
     for k in numba.prange(world.body.shape[0] // policy.block):
-        _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace,
+        _run_block(k, world, geo, policy, cycles, tally, trace, behaviour, record_trace,
                    record_behaviour)
 
 
 @numba.njit(cache=True)
-def _run_block(k, world, geo, policy, contact, trace, behaviour, record_trace, record_behaviour):
-    """The trials of block k: sense, choose outputs, move, repeat. Activations are (units, envs
-    of the block), as in forward_block. A function of its own, not inlined into the parallel
-    loop: numba loses writes to arrays reached through a tuple's fields inside a prange body
-    (numba/numba#7135)."""
+def _run_block(k, world, geo, policy, cycles, tally, trace, behaviour, record_trace,
+               record_behaviour):
+    """The trials of block k, with scratch arrays of its own. A function of its own, not inlined
+    into the parallel loop: numba loses writes to arrays reached through a tuple's fields inside
+    a prange body (numba/numba#7135)."""
     block = policy.block
-    n_inputs = geo.visual_units + 5
-    cycles = contact.shape[0]
-    first = k * block
-    buffer = np.zeros((max(policy.buffer_size, n_inputs), block))
-    total = np.zeros(block)
-    senses = np.zeros(n_inputs)
-    motor = np.zeros(N_MOTOR)
-    last_angles = np.zeros((block, 3))
-    last_gap, touched = np.zeros(block), np.zeros(block, dtype=np.bool_)
-    for t in range(cycles + 1):
-        for m in range(block):
-            touching = env_cycle(t, first + m, m, world, geo, policy, buffer, senses, motor,
-                                 trace, behaviour, record_trace, record_behaviour, last_angles,
-                                 last_gap, touched)
-            if t > 0:
-                contact[t - 1, first + m] = touching
-        if t < cycles and not policy.use_table:
-            forward_block(buffer[:, :], policy.weights[k], policy.layers, total)
+    n_inputs = geo.visual_units + N_PROPRIO + 1
+    run_block_trials(k * block, k, world, geo, policy, cycles,
+                     np.zeros((max(policy.buffer_size, n_inputs), block)), np.zeros(block),
+                     np.zeros(n_inputs), np.zeros(N_MOTOR), np.zeros((block, 3)),
+                     np.zeros(block), np.zeros(block, dtype=np.bool_), tally, trace,
+                     behaviour, record_trace, record_behaviour)
 
 
 @numba.njit(cache=True, inline="always")
-def env_cycle(t, i, m, world, geo, policy, buffer, senses, motor, trace, behaviour,
-              record_trace, record_behaviour, last_angles, last_gap, touched):
-    """Cycle t of environment i, the m-th of its block (its activations: column m of
-    ``buffer``, whose last N_MOTOR rows are the outputs): apply the command chosen from the
-    previous observation (t > 0), sense into the buffer's input rows, record. Returns whether
-    the hand touches the object. The CPU's loop over blocks and the GPU's thread per trial
-    (econet_ros.cuda_kernels) both run trials through it."""
-    body, shoulder, elbow = world.body, world.shoulder, world.elbow
-    n_inputs = geo.visual_units + 5
-    if t > 0:       # apply the command chosen from the previous observation
-        motor_rows = buffer.shape[0] - N_MOTOR
-        for u in range(N_MOTOR):
-            motor[u] = policy.motor_table[t - 1, i, u] if policy.use_table else \
-                buffer[motor_rows + u, m]
-        body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[0], motor[1],
-                                              motor[2], motor[3], motor[4], geo,
-                                              world.body_start[i])
-        if record_trace:
-            for u in range(N_MOTOR):
-                trace.motor[t - 1, i, u] = motor[u]
-    seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], world.object_xy[i, 0],
-                              world.object_xy[i, 1], geo, world.edge_x, world.edge_y, senses)
-    for j in range(n_inputs):
-        buffer[j, m] = senses[j]
-    touching = senses[n_inputs - 1] > 0.5
-    if record_trace:
-        record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy, trace)
-    if record_behaviour:
-        tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy, motor,
-                  last_angles, last_gap, touched, behaviour)
-    return touching
+def run_block_trials(first, network, world, geo, policy, cycles, buffer, total, senses, motor,
+                     last_angles, last_gap, touched, tally, trace, behaviour, record_trace,
+                     record_behaviour):
+    """The whole trials of environments first, first + 1, ..., one per column of ``buffer``
+    (their activations, whose last N_MOTOR rows are the outputs), driven by network number
+    ``network``. Each cycle: apply the command chosen from the previous observation (t > 0),
+    sense into the buffer's input rows, tally the contact, record, choose the next command.
+    The CPU's loop over blocks and the GPU's thread per trial (econet_ros.cuda_kernels, one
+    column) both run trials through it, so there is one physics and one tally.
+
+    One call runs every cycle of the block: a call per environment and cycle, which must pass
+    the record tuples' arrays in, cost the CPU a third of its time in reference counting."""
+    body, shoulder, elbow, body_start = world.body, world.shoulder, world.elbow, world.body_start
+    object_xy, edge_x, edge_y = world.object_xy, world.edge_x, world.edge_y
+    motor_table, use_table = policy.motor_table, policy.use_table
+    n_inputs = senses.shape[0]
+    motor_rows = buffer.shape[0] - N_MOTOR
+    for m in range(buffer.shape[1]):
+        start_tally(first + m, cycles, tally)
+    for t in range(cycles + 1):
+        for m in range(buffer.shape[1]):
+            i = first + m
+            if t > 0:       # apply the command chosen from the previous observation
+                for u in range(N_MOTOR):
+                    motor[u] = motor_table[t - 1, i, u] if use_table else \
+                        buffer[motor_rows + u, m]
+                body[i], shoulder[i], elbow[i] = move(body[i], shoulder[i], elbow[i], motor[0],
+                                                      motor[1], motor[2], motor[3], motor[4],
+                                                      geo, body_start[i])
+                if record_trace:
+                    for u in range(N_MOTOR):
+                        trace.motor[t - 1, i, u] = motor[u]
+            touched_before = buffer[n_inputs - 1, m] > 0.5    # the last cycle's touch sense
+            seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0],
+                                      object_xy[i, 1], geo, edge_x, edge_y, senses)
+            for j in range(n_inputs):
+                buffer[j, m] = senses[j]
+            touching = senses[n_inputs - 1] > 0.5
+            if t > 0:
+                tally_contact(t, i, touching, touched_before, tally)
+            if record_trace:
+                record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
+                           trace)
+            if record_behaviour:
+                tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
+                          motor, last_angles, last_gap, touched, behaviour)
+        if t < cycles and not use_table:
+            forward_block(buffer, policy.weights[network], policy.layers, total)
+
+
+@numba.njit(cache=True, inline="always")
+def start_tally(i, cycles, tally):
+    """Environment i's counts before its trial: no contact, latency the trial length."""
+    tally.fitness[i], tally.latency[i], tally.separations[i] = 0, cycles, 0
+
+
+@numba.njit(cache=True, inline="always")
+def tally_contact(t, i, touching, touched_before, tally):
+    """Count cycle t's contact (t >= 1) into environment i's counts, as
+    TrialMeasures.from_contact defines them (tests/core/test_trials.py holds them equal): a
+    separation is a cycle without contact after one with it, so a trial that starts in contact
+    has not separated when its first cycle leaves it."""
+    if touching:
+        tally.fitness[i] += 1
+        if tally.fitness[i] == 1:
+            tally.latency[i] = t
+    elif touched_before and t > 1:
+        tally.separations[i] += 1

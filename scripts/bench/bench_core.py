@@ -4,6 +4,7 @@ paper-size run (100 econets x 20 trials x 100 cycles x 200 generations = 4e7 eco
 
     . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_core.py [--generations N] [--condition normal] [--full]
     . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_core.py --per-cycle   # the nodes' per-cycle API
+    . scripts/env.sh && flock /tmp/econet-bench.lock python scripts/bench/bench_core.py --against REV [--pairs 4] [--study]
 
 It times N paper-size generations after one warm-up generation (which compiles the kernels),
 run as every command runs them (runs.evolve_into, result files included, into a temporary
@@ -11,12 +12,17 @@ folder), and prints the per-kernel split of one generation, so a regression show
 --per-cycle instead times World.step/observe and FeedForwardNetwork.act/forward for 2000
 environments (100 networks of random weights), as the world and controller nodes call them;
 NUMBA_NUM_THREADS=1 gives their cost with one numba thread per node.
+--against REV compares this checkout with the commit REV in one run: whole paper-size commands
+alternated, each side's median, min and max, the ratio and the load average, and whether both
+wrote the same results (scripts/bench/against.py). Run it before merging any change to a module
+in econet_ros.KERNEL_MODULES or to runs.py, evolution.py or trials.py.
 """
 from __future__ import annotations
 
 import argparse
 import cProfile
 import pstats
+import sys
 import tempfile
 import time
 import timeit
@@ -32,6 +38,8 @@ from econet_ros.evolution import InProcessEvaluator
 from econet_ros.runs import evolve_into
 from econet_ros.world import World, _sense_batch, sample_setups
 
+from against import compare_against     # this folder's module (the script's folder is on the path)
+
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -42,7 +50,16 @@ def main() -> None:
                         help="also time one complete 200-generation run")
     parser.add_argument("--per-cycle", action="store_true",
                         help="time the per-cycle API (2000 environments) instead")
+    parser.add_argument("--against", metavar="REV",
+                        help="instead, alternate whole paper-size `econet evolve --runs 1` "
+                             "commands of this checkout and of commit REV")
+    parser.add_argument("--pairs", type=int, default=4,
+                        help="with --against: alternated pairs (default: %(default)s)")
+    parser.add_argument("--study", action="store_true",
+                        help="with --against: also alternate `econet study --runs 1`")
     args = parser.parse_args()
+    if args.against:
+        sys.exit(compare_against(args.against, args.pairs, args.study))
     if args.per_cycle:
         per_cycle(Config().replace(**{"evolution.condition": args.condition}))
         return

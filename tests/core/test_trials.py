@@ -6,7 +6,7 @@ import pytest
 from econet_ros import genome
 from econet_ros.config import Config
 from econet_ros.plugins import make_controller
-from econet_ros.trials import TrialMeasures, run_trials
+from econet_ros.trials import Tally, TrialMeasures, run_trials, start_tally, tally_contact
 from econet_ros.world import World, sample_setups
 
 CONFIG = Config()
@@ -55,3 +55,21 @@ def test_trial_measures_from_a_contact_history():
     np.testing.assert_array_equal(m.success, [True, False, True])
     np.testing.assert_array_equal(m.latency, [2, 5, 3])
     np.testing.assert_array_equal(m.separations, [1, 0, 0])
+
+
+def test_compiled_tally_counts_as_the_contact_history_defines():
+    """The compiled loops' tally (CPU and GPU) against TrialMeasures.from_contact, the vectorised
+    definition, on histories whose start row (cycle 0, before any movement) may be in contact."""
+    rng = np.random.default_rng(3)
+    cycles, n = 12, 400
+    touch = rng.random((cycles + 1, n)) < rng.uniform(0, 1, n)      # rows 0..cycles
+    tally = Tally.empty(n)
+    for i in range(n):
+        start_tally(i, cycles, tally)
+        for t in range(1, cycles + 1):
+            tally_contact(t, i, touch[t, i], touch[t - 1, i], tally)
+    expected = TrialMeasures.from_contact(touch[1:])
+    found = TrialMeasures.from_tally(tally)
+    assert touch[0].any() and not expected.success.all() and expected.separations.any()
+    for field in vars(expected):
+        np.testing.assert_array_equal(getattr(found, field), getattr(expected, field), field)
