@@ -29,18 +29,18 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-import reference_evolution as ref_evolution
-import reference_model as ref
-from reference_partings import boundary_kind, first_parting
 from econet_ros.config import Config
 from econet_ros.errors import EconetError
 from econet_ros.evolution import (InProcessEvaluator, generation_setups, initial_genomes,
                                   next_generation)
 from econet_ros.files import write_atomically
+from econet_ros.reference import evolution as ref_evolution
+from econet_ros.reference import model as ref
+from econet_ros.reference.partings import boundary_kind, first_parting
 from econet_ros.runs import RunData, read_controller_record
 from econet_ros.science import holding
 from econet_ros.science.sweeps.spec import load_sweep
-from econet_ros.world import TrialSetup
+from econet_ros.world import TrialSetup, World
 
 TOLERANCE = 1e-6          # per trial fitness, reference against engine
 EXPLAINED_SHARE = 0.01    # explained partings allowed, of all trials checked
@@ -67,6 +67,17 @@ def motor_table(config: Config, seed: int, run: int, generation: int) -> np.ndar
     noise = int(ref_evolution.stream(seed, run, generation, ref_evolution.NOISE)
                 .integers(2 ** 63))
     return np.random.default_rng(noise).random((e.cycles, e.population * e.trials, 5))
+
+
+def engine_senses(model, trace, i, row, object_xy) -> np.ndarray:
+    """The engine's network input in the engine's state of trial i after ``row`` cycles."""
+    world = World(1, model)
+    world.body[:], world.shoulder[:], world.elbow[:] = (trace.body[row, i],
+                                                        trace.shoulder[row, i],
+                                                        trace.elbow[row, i])
+    world.object_xy[:] = object_xy
+    world.refresh()
+    return world.observe().network_input()[0]
 
 
 def trial_class(trials_separations, trials_successes) -> str:
@@ -141,7 +152,7 @@ def compare_champion(check: RunCheck, config: Config, result, champion: int, nam
             check.engine[k], bool(m.success[champion, k]), int(m.separations[champion, k]))
         if parting.what or not same:
             boundary = boundary_kind(config, result.trace, env, trial, setups.object_xy[env],
-                                     parting) if parting.what else None
+                                     parting, engine_senses) if parting.what else None
             check.partings.append({"trial": k, "cycle": parting.row,
                                    "what": parting.what or "same course, other measures",
                                    "boundary": boundary, "reference": trial.fitness,

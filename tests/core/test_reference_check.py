@@ -12,8 +12,8 @@ import pytest
 import reference_check as check
 from econet_ros.config import Config
 from econet_ros.files import cut_table
+from econet_ros.reference.partings import CONTACT_EDGE
 from econet_ros.science.sweeps import experiments, family
-from reference_partings import CONTACT_EDGE
 from sweep_helpers import evolved_sweep
 
 TINY = '''
