@@ -29,9 +29,9 @@ from econet_ros.plugins import make_controller
 from econet_ros.reference import model as ref
 from econet_ros.reference.partings import (CONTACT_EDGE, STATE_TOLERANCE, boundary_kind,
                                            first_parting)
+from econet_ros.science.reference_check import engine_senses
 from econet_ros.trials import run_trials
 from econet_ros.world import World, sample_setups
-from reference_check import engine_senses
 
 CYCLES = 100
 SETTINGS = {
