@@ -1,6 +1,6 @@
 """econet_ros: built by colcon as the root ament_python package (scripts/setup), and installable
 by pip without ROS: `pip install .` gives the ROS-free core (econet evolve, study, analyze,
-evaluate, compare); the extras add a feature each, e.g. `pip install ".[sweep,gym,bag]"`.
+evaluate, compare, check); the extras add a feature each, e.g. `pip install ".[sweep,gym,bag]"`.
 
 The ranges below hold the versions this project is tested with (requirements.txt pins them
 exactly, with ROS 2; scripts/setup installs that list): from that release (or the first with

@@ -6,6 +6,7 @@
     evaluate  trials with any controller, the paper's measures, optionally a bag
     bag       inspect, score, render and replay recorded trials
     sweep     sweeps over the paper's open choices (Ray), and their report
+    check     the independent check: a sweep's champions re-scored by the reference model
     compare   paired statistics between two sets of runs (studies, sweep cells)
 
 Every command checks its input before any work starts; an EconetError anywhere ends here as one
@@ -22,7 +23,7 @@ from .options import Parser
 
 # The module whose add_parser registers each command (study.py registers analyze too), in the
 # order --help lists them.
-MODULES = ("evolve", "study", "sweep", "compare", "evaluate", "bag")
+MODULES = ("evolve", "study", "sweep", "check", "compare", "evaluate", "bag")
 MODULE_OF = {"analyze": "study", **{name: name for name in MODULES}}
 
 # What to install for each module that `pip install .` (the ROS-free core) does not bring:

@@ -65,4 +65,4 @@ def test_a_named_command_loads_only_its_own_module(tmp_path):
     assert loaded == "[]"
     listing = subprocess.run([sys.executable, "-m", "econet_ros", "--help"], capture_output=True,
                              text=True, check=True).stdout
-    assert "{evolve,study,analyze,sweep,compare,evaluate,bag}" in listing
+    assert "{evolve,study,analyze,sweep,check,compare,evaluate,bag}" in listing

@@ -1,7 +1,8 @@
 """`pip install .` without ROS: the core goes into a fresh venv (no system site-packages) with
 the dependencies setup.py declares, at the versions requirements.txt pins, and no ROS wheel; a
-tiny `econet evolve` runs there (its kernels compiled afresh), and the commands that need what
-the core does not bring say in one line what to install. The tests marked `install` take about
+tiny `econet evolve` runs there (its kernels compiled afresh), `econet check` (the reference
+model, a package of its own) is there, and the commands that need what the core does not bring
+say in one line what to install. The tests marked `install` take about
 a minute and a half, most of it numba compiling the trial kernel; deselect them with
 -m "not install". The others check the same one-line contract in this process."""
 import csv
@@ -100,6 +101,15 @@ def test_a_tiny_evolve_runs_in_the_fresh_install(venv, tmp_path):
     assert (generations, population) == (EVOLUTION["generations"], EVOLUTION["population"])
     assert (stored, genomes) == (EVOLUTION["generations"] + 1, EVOLUTION["population"])
     assert 0 <= low <= high <= EVOLUTION["trials"] * EVOLUTION["cycles"]
+
+
+@pytest.mark.install
+def test_the_check_comes_with_the_install(venv, tmp_path):
+    helped = run(venv, "econet", "check", "--help", cwd=tmp_path)
+    assert helped.returncode == 0 and "reference model" in helped.stdout, helped.stderr
+    refused = run(venv, "econet", "check", "no-sweep", cwd=tmp_path)
+    assert refused.returncode == 2
+    assert one_line(refused.stderr).startswith("econet: error: no-sweep is not a sweep folder")
 
 
 @pytest.mark.install

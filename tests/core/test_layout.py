@@ -1,7 +1,7 @@
 """The core (everything outside econet_ros/nodes) must work on machines without ROS: importing
 it, and running its command line, never loads rclpy or any ROS message package. And the layout's
-rules: nothing in nodes/ imports the command line, and the kernel cache key lists every module
-with compiled kernels."""
+rules: nothing in nodes/ imports the command line, the reference model stays independent of the
+engine it checks, and the kernel cache key lists every module with compiled kernels."""
 import pkgutil
 import re
 import subprocess
@@ -11,6 +11,9 @@ from pathlib import Path
 import econet_ros
 
 PACKAGE = Path(econet_ros.__file__).parent
+# What the reference model (econet_ros/reference) may load of the package besides itself: the
+# settings it reads, and the package's root and errors that come with them.
+REFERENCE_MAY_LOAD = {"econet_ros", "econet_ros.config", "econet_ros.errors"}
 ROS = ("rclpy", "econet_msgs", "sensor_msgs", "std_msgs", "visualization_msgs", "geometry_msgs",
        "rcl_interfaces")
 
@@ -45,6 +48,20 @@ def test_only_nodes_import_ros_and_no_node_imports_the_command_line():
         else:
             assert not re.search(r"^\s*from\s+\.\.cli\b|econet_ros\.cli\b", text, re.M), \
                 f"{path} imports the command line"
+
+
+def test_the_reference_model_loads_nothing_of_the_engine():
+    reference = [name for name in core_modules() if name.startswith("econet_ros.reference.")]
+    assert {"econet_ros.reference.model", "econet_ros.reference.evolution",
+            "econet_ros.reference.partings"} <= set(reference)
+    code = ("import sys\n"
+            + "".join(f"import {name}\n" for name in reference)
+            + "print(' '.join(m for m in sys.modules if m.startswith('econet_ros')))\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            check=True)
+    loaded = {m for m in result.stdout.split() if not m.startswith("econet_ros.reference")}
+    assert loaded <= REFERENCE_MAY_LOAD, \
+        f"the reference model loads the engine: {sorted(loaded - REFERENCE_MAY_LOAD)}"
 
 
 def test_kernel_cache_key_lists_every_module_with_kernels():

@@ -1,6 +1,7 @@
-"""The independent check (reference_check.py) on tiny sweeps: it passes on real runs of every
-condition, fails on a forged champion and on an unfinished run, judges partings as registered,
-its section goes into the experiments' page, and the reference evolves the engine's champions."""
+"""The independent check (`econet check`, econet_ros/science/reference_check.py) on tiny sweeps:
+it passes on real runs of every condition, fails on a forged champion and on an unfinished run,
+judges partings as registered, its section goes into the experiments' page, and the reference
+evolves the engine's champions."""
 from __future__ import annotations
 
 import json
@@ -9,11 +10,12 @@ import shutil
 import numpy as np
 import pytest
 
-import reference_check as check
+from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.files import cut_table
+from econet_ros.reference.partings import CONTACT_EDGE
+from econet_ros.science import reference_check as check
 from econet_ros.science.sweeps import experiments, family
-from reference_partings import CONTACT_EDGE
 from sweep_helpers import evolved_sweep
 
 TINY = '''
@@ -49,13 +51,17 @@ def sweep(tmp_path_factory):
 
 
 def run_check(folder, tmp_path) -> tuple[int, dict]:
-    code = check.main([str(folder), "--json", str(tmp_path / "check.json")])
+    code = main(["check", str(folder), "--json", str(tmp_path / "check.json"), "--quiet"])
     return code, json.loads((tmp_path / "check.json").read_text())
 
 
-def test_the_champions_of_a_real_sweep_pass(sweep, tmp_path):
-    code, found = run_check(sweep, tmp_path)
-    assert code == 0 and found["pass"], found["reasons"]
+def test_the_champions_of_a_real_sweep_pass(sweep, tmp_path, capsys):
+    assert main(["check", str(sweep), "--json", str(tmp_path / "check.json")]) == 0
+    found = json.loads((tmp_path / "check.json").read_text())
+    assert found["pass"], found["reasons"]
+    said = capsys.readouterr().out.splitlines()
+    assert said[:2] == ["checked four/normal/seed-005", "checked four/normal/seed-006"]
+    assert len(said) == 7 and said[-1].endswith(": PASS")
     assert found["tally"]["champions"] == 6 and found["tally"]["trials"] == 18
     assert sum(sum(run["engine"]) for run in found["runs"]) > 0, "nothing touched: no test"
 
@@ -92,10 +98,12 @@ def test_an_unfinished_run_fails(sweep, tmp_path):
     assert found["reasons"] == ["three/three-layer/seed-006: unfinished: 5 of 8 generations"]
 
 
-def test_a_folder_that_is_no_sweep_is_a_one_line_error(tmp_path, capsys):
-    assert check.main([str(tmp_path)]) == 2
+@pytest.mark.parametrize("arguments", [[], ["--end-to-end", "9501-x"], ["--processes", "0"]])
+def test_a_folder_that_is_no_sweep_and_bad_options_are_one_line_errors(tmp_path, capsys,
+                                                                         arguments):
+    assert main(["check", str(tmp_path), *arguments]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("reference-check: error:") and err.count("\n") == 1
+    assert err.startswith("econet: error:") and err.count("\n") == 1, err
 
 
 def made_up(partings, classes=("holds", "holds"), trials=100) -> check.RunCheck:
@@ -128,7 +136,8 @@ def test_end_to_end_runs_pass_only_when_whole_and_alike():
 def test_the_section_goes_into_the_experiments_page(sweep, tmp_path, monkeypatch):
     folder = tmp_path / "check"
     folder.mkdir()
-    assert check.main([str(sweep), "--markdown", str(folder / family.REFERENCE_CHECK)]) == 0
+    assert main(["check", str(sweep), "--markdown", str(folder / family.REFERENCE_CHECK),
+                 "--quiet"]) == 0
     monkeypatch.setattr(experiments, "screen_all", lambda: {
         "2/2/4": np.array([1.0, 0.0]), "4/4/8": np.array([0.0]),
         "three-layer 4": np.array([1.0]), "three-layer 8": np.array([0.0])})

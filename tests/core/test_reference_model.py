@@ -1,4 +1,4 @@
-"""The engine against a plain, independent reading of the model (reference_model.py):
+"""The engine against a plain, independent reading of the model (econet_ros/reference):
 for the same weights and trial starts, every trial's fitness, success, latency and separations,
 and its whole course (states, outputs and contact cycle by cycle), under every setting that
 changes the physics. The graph and the Gymnasium env run the engine's kernels; this is what
@@ -21,13 +21,15 @@ from collections import Counter
 import numpy as np
 import pytest
 
-import reference_model as ref
-from reference_partings import CONTACT_EDGE, STATE_TOLERANCE, boundary_kind, first_parting
 from econet_ros import genome
 from econet_ros.config import Config
 from econet_ros.evolution import (InProcessEvaluator, genome_weights, initial_genomes,
                                   next_generation)
 from econet_ros.plugins import make_controller
+from econet_ros.reference import model as ref
+from econet_ros.reference.partings import (CONTACT_EDGE, STATE_TOLERANCE, boundary_kind,
+                                           first_parting)
+from econet_ros.science.reference_check import engine_senses
 from econet_ros.trials import run_trials
 from econet_ros.world import World, sample_setups
 
@@ -118,7 +120,8 @@ def compare(config: Config, condition, weights, n_trials, seed) -> tuple[Counter
             if ours != engine:
                 unexplained.append((i, "same course, other measures", ours, engine))
             continue
-        kind = boundary_kind(config, trace, i, trial, setup.object_xy[i], parting)
+        kind = boundary_kind(config, trace, i, trial, setup.object_xy[i], parting,
+                             engine_senses)
         kinds[kind or "unexplained"] += 1
         if kind is None:
             unexplained.append((i, parting, ours, engine))
@@ -155,11 +158,14 @@ def test_a_difference_away_from_every_boundary_is_not_explained(champions):
     flipped.touch[row, 0] = not flipped.touch[row, 0]
     parting = first_parting(flipped, 0, trial)
     assert (parting.row, parting.what) == (row, "contact")
-    assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting) is None
+    assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting,
+                         engine_senses) is None
     trial.gaps[row] = 1e-12                                       # as if on the edge
-    assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting) == CONTACT_EDGE
+    assert boundary_kind(config, flipped, 0, trial, setup.object_xy[0], parting,
+                         engine_senses) == CONTACT_EDGE
     moved = trace._replace(shoulder=trace.shoulder.copy())
     moved.shoulder[row:, 0] += 1.0
     parting = first_parting(moved, 0, trial)
     assert (parting.row, parting.what) == (row, "state")
-    assert boundary_kind(config, moved, 0, trial, setup.object_xy[0], parting) is None
+    assert boundary_kind(config, moved, 0, trial, setup.object_xy[0], parting,
+                         engine_senses) is None

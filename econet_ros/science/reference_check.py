@@ -1,27 +1,21 @@
 """The independent check (docs/preregistrations.md, "The independent check"; docs/analysis.md):
 the final champion of every run of a sweep re-scored by the plain NumPy reference model
-(reference_model.py) on its run's last-generation trials, and, with --end-to-end, whole runs
-evolved again through the reference (reference_evolution.py) beside the engine.
-
-    scripts/reference-check SWEEP_FOLDER [--json F] [--markdown F] [--processes P]
-                            [--end-to-end SEEDS --generations G]
+(econet_ros/reference) on its run's last-generation trials, and, end to end, whole runs evolved
+again through the reference beside the engine. ``econet check`` runs it (cli/check.py).
 
 PASS when every run is finished, the engine's re-run of each last generation gives its stored
 fitness, every champion's per-trial fitness agrees with the reference's within TOLERANCE except
-trials whose courses part at a boundary the reference test explains (reference_partings.py; at
-most EXPLAINED_SHARE of all trials), and every champion's hold/brush class agrees; FAIL
-otherwise. Partings nothing explains but with equal fitness are listed, not failed. End to end,
-the champions' genomes must be the engine's in every generation. The markdown is the section
-the experiments' page includes (econet_ros/science/sweeps/family.py, REFERENCE_CHECK).
+trials whose courses part at a boundary the reference explains (reference/partings.py; at most
+EXPLAINED_SHARE of all trials), and every champion's hold/brush class agrees; FAIL otherwise.
+Partings nothing explains but with equal fitness are listed, not failed. End to end, the
+champions' genomes must be the engine's in every generation. The markdown is the section the
+experiments' page includes (econet_ros/science/sweeps/family.py, REFERENCE_CHECK).
 """
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import multiprocessing
-import sys
-import time
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -29,25 +23,35 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-import reference_evolution as ref_evolution
-import reference_model as ref
-from reference_partings import boundary_kind, first_parting
-from econet_ros.config import Config
-from econet_ros.errors import EconetError
-from econet_ros.evolution import (InProcessEvaluator, generation_setups, initial_genomes,
-                                  next_generation)
-from econet_ros.files import write_atomically
-from econet_ros.runs import RunData, read_controller_record
-from econet_ros.science import holding
-from econet_ros.science.sweeps.spec import load_sweep
-from econet_ros.world import TrialSetup
+from ..config import Config
+from ..errors import EconetError
+from ..evolution import InProcessEvaluator, generation_setups, initial_genomes, next_generation
+from ..files import write_atomically
+from ..reference import evolution as ref_evolution
+from ..reference import model as ref
+from ..reference.partings import boundary_kind, first_parting
+from ..runs import RunData, read_controller_record
+from ..world import TrialSetup, World
+from . import holding
+from .sweeps.spec import load_sweep
 
 TOLERANCE = 1e-6          # per trial fitness, reference against engine
 EXPLAINED_SHARE = 0.01    # explained partings allowed, of all trials checked
 RUN = 1                   # a sweep evolves every (cell, condition, seed) as run 1 of its seed
 
 
-# -- one trial and one econet through the reference -----------------------------------------------
+# -- one trial and one econet, by the engine and by the reference ---------------------------------
+def engine_senses(model, trace, i, row, object_xy) -> np.ndarray:
+    """The engine's network input in the engine's state of trial i after ``row`` cycles."""
+    world = World(1, model)
+    world.body[:], world.shoulder[:], world.elbow[:] = (trace.body[row, i],
+                                                        trace.shoulder[row, i],
+                                                        trace.elbow[row, i])
+    world.object_xy[:] = object_xy
+    world.refresh()
+    return world.observe().network_input()[0]
+
+
 def reference_trials(config: Config, codes, setups: TrialSetup, envs, motor_table=None
                      ) -> list[ref.Trial]:
     """The reference's trials of one econet (genome ``codes``) in environments ``envs``."""
@@ -60,7 +64,7 @@ def reference_trials(config: Config, codes, setups: TrialSetup, envs, motor_tabl
 
 
 def motor_table(config: Config, seed: int, run: int, generation: int) -> np.ndarray | None:
-    """Random movement's outputs for a whole generation, drawn at once (reference_model.py)."""
+    """Random movement's outputs for a whole generation, drawn at once (reference/model.py)."""
     e = config.evolution
     if e.condition != "random":
         return None
@@ -141,7 +145,7 @@ def compare_champion(check: RunCheck, config: Config, result, champion: int, nam
             check.engine[k], bool(m.success[champion, k]), int(m.separations[champion, k]))
         if parting.what or not same:
             boundary = boundary_kind(config, result.trace, env, trial, setups.object_xy[env],
-                                     parting) if parting.what else None
+                                     parting, engine_senses) if parting.what else None
             check.partings.append({"trial": k, "cycle": parting.row,
                                    "what": parting.what or "same course, other measures",
                                    "boundary": boundary, "reference": trial.fitness,
@@ -149,13 +153,20 @@ def compare_champion(check: RunCheck, config: Config, result, champion: int, nam
 
 
 def sweep_runs(folder: Path) -> list[tuple[Path, str]]:
-    """Every run of the sweep in FOLDER: its folder and its name, cell/condition/seed-NNN."""
+    """Every run of the sweep in FOLDER: its folder and its name, cell/condition/seed-NNN (a
+    ResultsError if FOLDER is no sweep)."""
     spec = load_sweep(folder)
     return [(run.folder(folder), str(run.folder(folder).relative_to(folder)))
             for run in spec.runs()]
 
 
-Starmap = Callable[[Callable, list[tuple]], list]
+# A lazy starmap: the results in the calls' order, each as soon as it and those before are done.
+Starmap = Callable[[Callable, list[tuple]], Iterator]
+
+
+def _call(function_and_arguments: tuple):
+    function, *arguments = function_and_arguments
+    return function(*arguments)
 
 
 @contextmanager
@@ -163,14 +174,20 @@ def workers(processes: int) -> Iterator[Starmap]:
     """A starmap over ``processes`` worker processes, or in this one. Workers are spawned, not
     forked: a fork of a process whose compiled kernels started threads may hang."""
     if processes <= 1:
-        yield lambda function, calls: list(itertools.starmap(function, calls))
+        yield itertools.starmap
         return
     with multiprocessing.get_context("spawn").Pool(processes) as pool:
-        yield pool.starmap
+        yield lambda function, calls: pool.imap(_call, [(function, *c) for c in calls])
 
 
-def check_sweep(folder: Path, starmap: Starmap) -> list[RunCheck]:
-    return starmap(check_run, sweep_runs(folder))
+def check_runs(runs: list[tuple[Path, str]], starmap: Starmap,
+               on_run: Callable[[RunCheck], None]) -> list[RunCheck]:
+    """Every run's check (``sweep_runs``), ``on_run`` hearing each as it is done."""
+    checks = []
+    for check in starmap(check_run, runs):
+        on_run(check)
+        checks.append(check)
+    return checks
 
 
 # -- the verdict ----------------------------------------------------------------------------------
@@ -208,18 +225,6 @@ def tally(checks: list[RunCheck]) -> dict:
 
 
 # -- end to end: whole runs through the reference -------------------------------------------------
-def parse_seeds(text: str) -> list[int]:
-    """'9501-9503' or '9501,9502,9503'."""
-    try:
-        if "-" in text:
-            first, last = map(int, text.split("-"))
-            return list(range(first, last + 1))
-        return [int(s) for s in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"seeds as FIRST-LAST or a,b,c, not {text!r}") \
-            from None
-
-
 def score_econet(config: Config, codes, setups: TrialSetup, envs) -> int:
     return sum(t.fitness for t in reference_trials(config, codes, setups, envs))
 
@@ -245,9 +250,9 @@ def end_to_end(config: Config, seed: int, starmap: Starmap, report) -> list[bool
     agreed = []
     for generation, engine_champion in enumerate(champions):
         setups = generation_setups(config, seed, RUN, generation)
-        fitness = np.array(starmap(score_econet, [
+        fitness = np.array(list(starmap(score_econet, [
             (config, codes, setups, range(k * e.trials, (k + 1) * e.trials))
-            for k, codes in enumerate(genomes)]))
+            for k, codes in enumerate(genomes)])))
         best = ref_evolution.ranked(fitness)[0]
         agreed.append(bool(np.array_equal(genomes[best], engine_champion)))
         report(generation, agreed[-1])
@@ -255,10 +260,25 @@ def end_to_end(config: Config, seed: int, starmap: Starmap, report) -> list[bool
     return agreed
 
 
+def end_to_end_reasons(runs_end_to_end: dict[int, list[bool]], generations: int) -> list[str]:
+    """Why the end-to-end runs do not pass (yet): champions that differ, generations not run."""
+    reasons = []
+    for seed, agreed in runs_end_to_end.items():
+        differ = [g for g, agrees in enumerate(agreed) if not agrees]
+        if differ:
+            reasons.append(f"end to end, seed {seed}: the champions differ in generations "
+                           f"{differ}")
+        if len(agreed) < generations:
+            reasons.append(f"end to end, seed {seed}: {len(agreed)} of {generations} "
+                           "generations run")
+    return reasons
+
+
 # -- output ---------------------------------------------------------------------------------------
 def markdown(folder: Path, checks: list[RunCheck], passed: bool, reasons: list[str],
              runs_end_to_end: dict) -> str:
-    """The section the experiments' page includes (its sections are level-2 headings)."""
+    """The section the experiments' page includes (its sections are level-2 headings), worded
+    byte for byte as the published ones, first names of the model and the command included."""
     t = tally(checks)
     lines = ["## The independent check\n",
              f"**{'PASS' if passed else 'FAIL'}**, as registered in [preregistrations.md]"
@@ -288,89 +308,43 @@ def markdown(folder: Path, checks: list[RunCheck], passed: bool, reasons: list[s
     return "\n".join(lines).rstrip() + "\n"
 
 
-def end_to_end_reasons(runs_end_to_end: dict[int, list[bool]], generations: int) -> list[str]:
-    """Why the end-to-end runs do not pass (yet): champions that differ, generations not run."""
-    reasons = []
-    for seed, agreed in runs_end_to_end.items():
-        differ = [g for g, agrees in enumerate(agreed) if not agrees]
-        if differ:
-            reasons.append(f"end to end, seed {seed}: the champions differ in generations "
-                           f"{differ}")
-        if len(agreed) < generations:
-            reasons.append(f"end to end, seed {seed}: {len(agreed)} of {generations} "
-                           "generations run")
-    return reasons
+@dataclass(frozen=True)
+class Outputs:
+    """What the check writes, and where: the sweep folder it names, the JSON of every
+    champion's comparison and the experiments' page section (None: not written), and the
+    generations each end-to-end run must reach."""
+
+    folder: Path
+    json_file: Path | None = None
+    markdown_file: Path | None = None
+    generations: int = 20
+
+    def write(self, checks: list[RunCheck], runs_end_to_end: dict[int, list[bool]]) -> bool:
+        """Write both outputs as they stand; whether the check passes so far."""
+        reasons = verdict(checks)[1] + end_to_end_reasons(runs_end_to_end, self.generations)
+        passed = not reasons
+        if self.json_file:
+            write_atomically(self.json_file, json.dumps(
+                {"folder": str(self.folder), "pass": passed, "reasons": reasons,
+                 "tally": tally(checks), "runs": [asdict(c) for c in checks],
+                 "end_to_end": runs_end_to_end}, indent=2) + "\n")
+        if self.markdown_file:
+            write_atomically(self.markdown_file, markdown(self.folder, checks, passed, reasons,
+                                                          runs_end_to_end))
+        return passed
 
 
-def write_outputs(args, checks, runs_end_to_end: dict[int, list[bool]]) -> bool:
-    reasons = verdict(checks)[1] + end_to_end_reasons(runs_end_to_end, args.generations)
-    passed = not reasons
-    if args.json:
-        write_atomically(Path(args.json), json.dumps(
-            {"folder": str(args.folder), "pass": passed, "reasons": reasons,
-             "tally": tally(checks), "runs": [asdict(c) for c in checks],
-             "end_to_end": runs_end_to_end}, indent=2) + "\n")
-    if args.markdown:
-        write_atomically(Path(args.markdown), markdown(Path(args.folder), checks, passed,
-                                                       reasons, runs_end_to_end))
-    return passed
-
-
-def arguments(argv) -> argparse.Namespace:
-    parser = argparse.ArgumentParser(prog="reference-check", description=__doc__.split("\n\n")[0])
-    parser.add_argument("folder", type=Path, help="a sweep folder (econet sweep run --out)")
-    parser.add_argument("--json", help="write every champion's comparison here")
-    parser.add_argument("--markdown", help="write the experiments' page section here "
-                        "(reference-check.md in a folder given to econet sweep experiments)")
-    parser.add_argument("--processes", type=int, default=1, help="worker processes")
-    parser.add_argument("--end-to-end", metavar="SEEDS", type=parse_seeds,
-                        help="also evolve these seeds (e.g. 9501-9503) through the reference "
-                        "at the default settings")
-    parser.add_argument("--generations", type=int, default=20,
-                        help="generations of each end-to-end run (20)")
-    return parser.parse_args(argv)
-
-
-def main(argv=None) -> int:
-    args = arguments(argv)
-    try:
-        with workers(args.processes) as starmap:
-            return finish(args, starmap)
-    except EconetError as error:
-        print(f"reference-check: error: {error}", file=sys.stderr)
-        return 2
-
-
-def finish(args, starmap: Starmap) -> int:
-    """The champions' check, then the end-to-end runs if asked for; the exit status."""
-    checks = check_sweep(args.folder, starmap)
-    passed = write_outputs(args, checks, {})
-    t = tally(checks)
-    print(f"champions {t['champions']} of {t['runs']} runs, trials {t['trials']}, agreeing "
-          f"{t['trials_agreeing']}, partings {t['explained']} explained + {t['unexplained']} "
-          f"unexplained, classes agreeing {t['classes_agreeing']}, holding {t['holding']}: "
-          f"{'PASS' if passed else 'FAIL'}", flush=True)
-    if args.end_to_end:
-        passed = run_end_to_end(args, checks, starmap)
-    return 0 if passed else 1
-
-
-def run_end_to_end(args, checks, starmap: Starmap) -> bool:
-    """The end-to-end runs, the outputs rewritten after every generation (a run cut short
-    still reports how far it agreed)."""
-    config = Config().replace(**{"evolution.generations": args.generations})
-    found: dict[int, list[bool]] = {seed: [] for seed in args.end_to_end}
-    started = time.monotonic()
-    for seed in args.end_to_end:
+def check_end_to_end(seeds: list[int], checks: list[RunCheck], outputs: Outputs,
+                     starmap: Starmap, on_generation) -> bool:
+    """The end-to-end runs at the default settings, the outputs rewritten after every
+    generation (a run cut short still reports how far it agreed); ``on_generation(seed,
+    generation, agrees)`` hears each generation. Whether the whole check passes."""
+    config = Config().replace(**{"evolution.generations": outputs.generations})
+    found: dict[int, list[bool]] = {seed: [] for seed in seeds}
+    for seed in seeds:
         def report(generation, agrees, seed=seed):
             found[seed].append(agrees)
-            write_outputs(args, checks, found)
-            print(f"end to end seed {seed} generation {generation}: champions "
-                  f"{'agree' if agrees else 'DIFFER'} ({time.monotonic() - started:.0f} s)",
-                  flush=True)
+            outputs.write(checks, found)
+            on_generation(seed, generation, agrees)
         end_to_end(config, seed, starmap, report)
-    return write_outputs(args, checks, found)
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+    return outputs.write(checks, found)

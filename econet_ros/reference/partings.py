@@ -1,6 +1,7 @@
 """Where the engine's course of a trial and the reference model's part, and which boundary of
-the model explains it: shared by the reference test (test_reference_model.py) and the
-independent check (reference_check.py).
+the model explains it: shared by the reference test (tests/core/test_reference_model.py) and the
+independent check (econet_ros/science/reference_check.py). The engine's side comes in as its
+trace and a function giving its senses, so that nothing here imports the engine.
 
 The two readings compute geometry differently (the reference in the workspace's frame with
 libm's trigonometry), so their states agree to about 1e-13 degrees a cycle; a network's
@@ -12,12 +13,11 @@ can move it), or None when none explains it.
 """
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Callable, NamedTuple
 
 import numpy as np
 
-import reference_model as ref
-from econet_ros.world import World
+from . import model as ref
 
 STATE_TOLERANCE = 1e-6      # degrees: states closer than this are the same course
 OUTPUT_TOLERANCE = 1e-6
@@ -26,15 +26,9 @@ EDGE_TURN = 1e-7            # degrees: what turning the windows a hair either wa
 CONTACT_EDGE = "hand at the object's edge"
 
 
-def engine_senses(model, trace, i, row, object_xy) -> np.ndarray:
-    """The engine's network input in the engine's state of trial i after ``row`` cycles."""
-    world = World(1, model)
-    world.body[:], world.shoulder[:], world.elbow[:] = (trace.body[row, i],
-                                                        trace.shoulder[row, i],
-                                                        trace.elbow[row, i])
-    world.object_xy[:] = object_xy
-    world.refresh()
-    return world.observe().network_input()[0]
+# The engine's network input in its state of trial i after ``row`` cycles, called as
+# engine_senses(model, trace, i, row, object_xy) (econet_ros.science.reference_check's).
+EngineSenses = Callable[..., np.ndarray]
 
 
 class Parting(NamedTuple):
@@ -69,7 +63,8 @@ def first_parting(trace, i, trial: ref.Trial) -> Parting:
     return Parting(len(trial.outputs), "", drift, output_drift)
 
 
-def boundary_kind(config, trace, i, trial: ref.Trial, object_xy, parting: Parting) -> str | None:
+def boundary_kind(config, trace, i, trial: ref.Trial, object_xy, parting: Parting,
+                  engine_senses: EngineSenses) -> str | None:
     """Which boundary of the model explains a parting (None: none does). Contact that differs
     needs the hand at the object's edge, within what the drift can move it (at most 3 joints x
     2 arm lengths x pi/180 per degree: under 10 units per degree); a jump in the state comes

@@ -1,4 +1,4 @@
-"""A plain reference implementation of one econet trial: the test oracle of the engine.
+"""A plain reference implementation of one econet trial: the oracle of the engine.
 
 Written from the paper's Appendix and docs/assumptions.md (the sections are named where each
 rule is used), one environment at a time in plain NumPy and Python, without the engine's

@@ -1,10 +1,11 @@
 """A plain reading of the paper's variation and selection, the reference model's own (the
-independent check's end-to-end runs, reference_check.py): genomes of fixed-point codes, their
-weights, per-bit mutation and truncation selection, written from the Appendix and the genome
-docs (econet_ros/genome.py's docstring, docs/assumptions.md), without the engine's genome or
-evolution code. Like the motor table's draw in reference_model.py, two conventions come from the
-engine so that the same seed gives the same run: each draw's random stream, named by (seed, run,
-generation, purpose) as a NumPy SeedSequence's spawn key, and the shape and order of each draw.
+independent check's end-to-end runs, econet_ros/science/reference_check.py): genomes of
+fixed-point codes, their weights, per-bit mutation and truncation selection, written from the
+Appendix and the genome docs (econet_ros/genome.py's docstring, docs/assumptions.md), without
+the engine's genome or evolution code. Like the motor table's draw in model.py, two conventions
+come from the engine so that the same seed gives the same run: each draw's random stream, named
+by (seed, run, generation, purpose) as a NumPy SeedSequence's spawn key, and the shape and order
+of each draw.
 """
 from __future__ import annotations
 
