@@ -229,3 +229,17 @@ def test_the_nodes_apart_of_the_ros_graph_page_evolve(tmp_path):
             proc.terminate()
             proc.wait(30)
     assert_same_run(tmp_path / "graph" / "run-01", cli_run(tmp_path / "cli"))
+
+
+@pytest.mark.ros
+def test_two_controllers_named_in_one_graph_are_a_one_line_error(tmp_path):
+    proc = subprocess.run(
+        [sys.executable, "-m", "econet_ros.nodes.graph_node", "controller", "--ros-args", "-p",
+         "controller:=random", "supervisor", "--ros-args", "-p", "controller:=three-layer",
+         "-p", f"out:={tmp_path}"], cwd=REPO, capture_output=True, text=True, timeout=120,
+        env={**os.environ, "ROS_DOMAIN_ID": str(DOMAIN)})
+    assert proc.returncode == 2
+    assert proc.stderr.strip().splitlines()[-1] == (
+        "graph_node: error: supervisor: controller:=three-layer, but the controller node's "
+        "section says controller:=random; name it once")
+    assert not list(tmp_path.glob("run-*"))
