@@ -7,7 +7,8 @@ A controller name is one of
     * ``module:Class``, naming a class on the Python path directly.
 Either way the class must subclass ``econet_ros.controllers.Controller`` and is constructed as
 ``Class(n_envs, config)``. The command line, the evolution, the controller node and the
-supervisor all resolve names here (``make_controller``).
+supervisor all resolve names here (``make_controller``), and ``chosen_controller`` is the one
+rule for which controller a run evolves.
 """
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ from .controllers import Controller
 from .errors import PluginError
 
 GROUP = "econet_ros.controllers"
+EXTERNAL = "external"     # the supervisor's controller:=external: a node it does not know
 
 # Our own registrations, also listed in setup.py; used when the package's metadata is not
 # installed (running straight from a source tree).
@@ -67,3 +69,11 @@ def make_controller(name: str, n_envs: int, config: Config) -> Controller:
     """A controller by name: a paper condition ('normal', 'three-layer', 'random'), any other
     registered plug-in (e.g. 'reacher'), or 'module:Class'."""
     return resolve(name)(n_envs, config)
+
+
+def chosen_controller(condition: str, controller: str = "") -> str:
+    """The controller a run evolves, and a graph's controller node runs: the one named, else
+    the condition's own network. The supervisor and the controller node decide with it from
+    the same two parameters, whoever starts them (graph_node, scripts/graph-demo, the launch
+    file), so the two cannot disagree."""
+    return controller or condition

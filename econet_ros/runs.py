@@ -12,8 +12,9 @@ A result folder holds one evolutionary run, in open formats (JSON, CSV, NumPy .n
                       population tested in generation g, the last row = the final offspring
     fitness.npy       (generations, population) fitness of every econet
     best_genomes.npy  (generations, n_weights) codes of each generation's fittest econet
-    controller.json   the controller plug-in the run was evolved with (econet evolve
-                      --controller); absent for the condition's own network
+    controller.json   the controller the run was evolved with when it is not the condition's own
+                      network (econet evolve --controller, the supervisor's controller:=);
+                      written and checked by every writer (RunStore)
     provenance.json   which code wrote the folder and when: one entry per session (a resumed
                       run adds one); kept apart so that the files above stay byte-identical
                       whoever makes them (provenance.py)
@@ -45,12 +46,13 @@ from tqdm import tqdm
 from . import genome as genome_codes
 from .config import Config, ConfigError
 from .controllers import Controller
-from .errors import ResultsError, UsageError
+from .errors import ResultsError, UsageError, option
 from .evolution import BatchEvaluator, Evaluator, GenerationResult, InProcessEvaluator
 from .files import (RESUME, RowWriter, append_row, cut_table, locked, read_json_object,
                     remove_torn_writes, start_table, stored_whole_number, table_rows,
                     write_atomically, writing)
 from .optimizers import make_optimizer
+from .plugins import resolve
 from .provenance import code, now
 from .trials import Record
 
@@ -86,8 +88,12 @@ class RunStore:
     """Writes one run's folder generation by generation, and reopens it to resume. Used as a
     context manager: it holds the folder's lock (a second writer is refused) and its files."""
 
-    def __init__(self, path: Path, config: Config, seed: int, run: int, n_weights: int):
+    def __init__(self, path: Path, config: Config, seed: int, run: int, n_weights: int,
+                 plugin: dict | None = None):
+        """plugin: the controller record of a run that does not evolve the condition's own
+        network (controller_record)."""
         self.path = Path(path)
+        self.plugin, self.condition = plugin, config.evolution.condition
         self.header = {"format": FORMAT, "config": config.to_dict(), "seed": seed, "run": run,
                        "n_weights": n_weights}
         self.generations = config.evolution.generations
@@ -112,8 +118,7 @@ class RunStore:
             done = self._recorded_generations()
             arrays = None if done is None else open_arrays(self.path, self.layout)
         except ResultsError as error:
-            raise ResultsError(f"{error}; choose another output folder or pass --overwrite to "
-                               "start the run again") from None
+            raise ResultsError(f"{error}; {start_again()}") from None
         if arrays is None:
             genomes = initial_genomes()
             self._create(genomes)
@@ -128,7 +133,8 @@ class RunStore:
 
     def _recorded_generations(self) -> int | None:
         """Finished generations (a torn last metrics row is cut off), or None while the folder
-        holds no run yet: no run.json, or a damaged one before any generation finished."""
+        holds no run yet: no run.json, a damaged one before any generation finished, or the
+        start of a run of other settings that finished none (made again with these)."""
         meta = self.path / "run.json"
         if not meta.exists():
             return None
@@ -139,7 +145,10 @@ class RunStore:
                 return None
             raise
         if stored != self.header:
+            if not table_rows(self.path / "metrics.csv", METRIC_COLUMNS).size:
+                return None
             raise ResultsError(f"{self.path} holds a run with different settings")
+        check_controller(self.path, self.plugin, self.condition)
         done = len(finished_rows(self.path / "metrics.csv", self.generations))
         cut_table(self.path / "metrics.csv", done)
         return done
@@ -163,6 +172,7 @@ class RunStore:
                     (self.path / f"{name}.npy").unlink(missing_ok=True)
                 raise
         start_table(self.path / "metrics.csv", METRIC_COLUMNS)
+        write_controller_record(self.path, self.plugin)
         write_atomically(self.path / "run.json", json.dumps(self.header, indent=2,
                                                             sort_keys=True))
 
@@ -287,7 +297,8 @@ OnGeneration = Callable[[GenerationResult, np.ndarray], None]
 def evolve_into(folder: Path, config: Config, seed: int, run: int,
                 evaluator: Evaluator | None = None, on_generation: OnGeneration | None = None,
                 record: Record = False, on_open: Callable[[int], None] | None = None,
-                first_generation: Callable[[], np.ndarray] | None = None) -> int:
+                first_generation: Callable[[], np.ndarray] | None = None,
+                plugin: dict | None = None) -> int:
     """Evolve one run into ``folder``, resuming from its last finished generation.
 
     Each generation is tested by ``evaluator`` (default: in process), the next one bred by the
@@ -295,11 +306,12 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     ``on_generation(result, offspring)`` is called; ``on_open(done)`` hears how many generations
     the folder already held. A new run starts from the optimizer's first generation, or from
     ``first_generation()`` when given (a population chosen by the caller, e.g. a transplant;
-    the paper's GA only, whose offspring depend on nothing but their parents). Returns the
-    run's generation count."""
+    the paper's GA only, whose offspring depend on nothing but their parents). ``plugin`` is
+    the controller record of an evaluator that does not run the condition's own network.
+    Returns the run's generation count."""
     evaluator = evaluator or InProcessEvaluator(config)
-    with RunEvolution(folder, config, seed, run, evaluator.n_weights,
-                      first_generation) as evolution:
+    with RunEvolution(folder, config, seed, run, evaluator.n_weights, first_generation,
+                      plugin) as evolution:
         if on_open:
             on_open(evolution.generation)
         while not evolution.finished:
@@ -314,7 +326,7 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
 def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
                     evaluator: BatchEvaluator,
                     on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None
-                    = None) -> None:
+                    = None, plugin: dict | None = None) -> None:
     """Evolve (or resume) the runs ``(folder, run number)`` side by side: each round every
     unfinished run's next generation (runs resumed at different generations included) is tested
     in one call of ``evaluator.test_generations``, then each is bred and written as evolve_into
@@ -322,7 +334,7 @@ def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
     offspring) after each."""
     with ExitStack() as held:
         evolutions = [held.enter_context(RunEvolution(folder, config, seed, run,
-                                                      evaluator.n_weights))
+                                                      evaluator.n_weights, plugin=plugin))
                       for folder, run in runs]
         while active := [evolution for evolution in evolutions if not evolution.finished]:
             results = evaluator.test_generations([(e.genomes, seed, e.run, e.generation)
@@ -339,10 +351,11 @@ class RunEvolution:
     writes each tested generation. What evolve_into and evolve_together do for every run."""
 
     def __init__(self, folder: Path, config: Config, seed: int, run: int, n_weights: int,
-                 first_generation: Callable[[], np.ndarray] | None = None):
+                 first_generation: Callable[[], np.ndarray] | None = None,
+                 plugin: dict | None = None):
         self.config, self.seed, self.run = config, seed, run
         self._optimizer = make_optimizer(config, n_weights, seed, run)
-        self._store = RunStore(folder, config, seed, run, n_weights)
+        self._store = RunStore(folder, config, seed, run, n_weights, plugin)
         self._first_generation = first_generation or self._optimizer.first_generation
         self._held = ExitStack()
         self.generation, self.genomes = 0, np.empty(0)
@@ -448,43 +461,68 @@ def writing_into(out: Path, overwrite: bool = False,
         yield
 
 
-def controller_record(name: str, controller: Controller) -> dict:
-    """What a run folder records (CONTROLLER_FILE) of the controller plug-in it is evolved with,
-    named as the user named it."""
-    cls = type(controller)
-    return {"controller": name, "class": f"{cls.__module__}:{cls.__qualname__}",
-            "n_params": controller.n_params}
+def start_again() -> str:
+    """The advice for a run folder that cannot be resumed, as this user gives options."""
+    return f"choose another output folder or pass {option('overwrite')} to start the run again"
 
 
-def record_controller(out: Path, runs: int, record: dict | None) -> None:
-    """Record in out's run folders 1..runs which controller plug-in their runs are evolved with
-    (None: the condition's own network, recorded by having no CONTROLLER_FILE), refusing a
-    folder that holds a run of another controller: runs of different controllers never mix."""
-    for number in range(1, runs + 1):
-        folder = run_folder(out, number)
-        old = read_controller_record(folder)
-        if (folder / "run.json").exists() and old != record:
-            what = (old or {}).get("controller", "the condition's network")
-            wanted = f"--controller {old['controller']}" if old else "no --controller"
-            raise UsageError(f"{folder} holds a run evolved with {what}; use {wanted}, another "
-                             "--out, or --overwrite")
-        if record:
-            folder.mkdir(parents=True, exist_ok=True)
-            write_atomically(folder / CONTROLLER_FILE, json.dumps(record, indent=2) + "\n")
+# -- the controller record: which controller a run folder was evolved with ----------------------
+def controller_record(name: str, cls: type | None, n_params: int,
+                      condition: str) -> dict | None:
+    """What a run folder records (CONTROLLER_FILE) of the controller it is evolved with: the
+    name as the user gave it, its class (None: a node the supervisor does not know) and weight
+    count; None for the condition's own network, which run.json already names."""
+    if cls is resolve(condition):
+        return None
+    return {"controller": name, "class": cls and _class_path(cls), "n_params": n_params}
+
+
+def _class_path(cls: type) -> str:
+    return f"{cls.__module__}:{cls.__qualname__}"
+
+
+def write_controller_record(folder: Path, record: dict | None) -> None:
+    """Record the run's controller in its folder (no file for the condition's network)."""
+    path = Path(folder) / CONTROLLER_FILE
+    if record:
+        write_atomically(path, json.dumps(record, indent=2) + "\n")
+    else:
+        path.unlink(missing_ok=True)
 
 
 def read_controller_record(run_dir: Path) -> dict | None:
-    """The controller plug-in a run folder records (None: the condition's network)."""
+    """The controller a run folder records (None: the condition's network)."""
     path = Path(run_dir) / CONTROLLER_FILE
     if not path.exists():
         return None
-    try:
-        record = read_json_object(path)
-        if not isinstance(record.get("controller"), str):
-            raise ResultsError(f"{path} is damaged (no controller name)")
-    except ResultsError as error:
-        raise ResultsError(f"{error}; choose another --out or pass --overwrite") from None
+    record = read_json_object(path)
+    if not isinstance(record.get("controller"), str):
+        raise ResultsError(f"{path} is damaged (no controller name)")
     return record
+
+
+def check_controller(folder: Path, record: dict | None, condition: str) -> None:
+    """UsageError if the run folder holds finished generations evolved with another controller
+    than ``record`` says (runs of different controllers never mix); the same class under
+    another name, or the condition's network named, is the same controller."""
+    if not finished_generations(folder):
+        return
+    try:
+        stored = read_controller_record(folder)
+    except ResultsError as error:
+        raise UsageError(f"{error}; {start_again()}") from None
+    if _evolved(stored, condition) != _evolved(record, condition):
+        what, name = (stored["controller"],) * 2 if stored else ("the condition's network", "")
+        raise UsageError(f"{folder} holds a run evolved with {what}; use "
+                         f"{option('controller', name)}, or {start_again()}")
+
+
+def _evolved(record: dict | None, condition: str) -> str:
+    """The class a record says a run evolves ('external': a node the supervisor does not
+    know), the condition's network's for none."""
+    if record is None:
+        return _class_path(resolve(condition))
+    return record.get("class") or record["controller"]
 
 
 def finished_generations(run_dir: Path) -> int:
@@ -498,14 +536,18 @@ def finished_generations(run_dir: Path) -> int:
 
 def run_condition(config: Config, runs: int, seed: int, out: Path, progress: bool = True,
                   evaluator: Evaluator | None = None,
-                  on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None = None
-                  ) -> str:
+                  on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None = None,
+                  plugin: dict | None = None) -> str:
     """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
     were interrupted, calling on_generation(run, result, offspring) after each generation;
     returns a short human-readable summary. An evaluator that tests many runs at once (a
     BatchEvaluator: the GPU's) advances them all together (evolve_together), else they run one
-    after another (evolve_into); the folders are the same."""
+    after another (evolve_into); the folders are the same. ``plugin``: the controller record
+    of an evaluator that does not run the condition's network (every run folder is checked
+    against it before any is evolved)."""
     evaluator = evaluator or InProcessEvaluator(config)
+    for run in range(1, runs + 1):
+        check_controller(run_folder(out, run), plugin, config.evolution.condition)
     generations = config.evolution.generations
     done = sum(finished_generations(run_folder(out, run)) for run in range(1, runs + 1))
     with tqdm(total=runs * generations, initial=done, desc=config.evolution.condition,
@@ -518,11 +560,11 @@ def run_condition(config: Config, runs: int, seed: int, out: Path, progress: boo
 
         if isinstance(evaluator, BatchEvaluator):
             evolve_together([(run_folder(out, run), run) for run in range(1, runs + 1)], config,
-                            seed, evaluator, tick)
+                            seed, evaluator, tick, plugin)
         else:
             for run in range(1, runs + 1):
                 evolve_into(run_folder(out, run), config, seed, run, evaluator,
-                            functools.partial(tick, run))
+                            functools.partial(tick, run), plugin=plugin)
     return summarize(out, runs)
 
 
@@ -542,10 +584,24 @@ def replay(run_dir: Path, generation: int, record: Record = True,
            evaluator: Evaluator | None = None) -> GenerationResult:
     """Re-test a stored generation with its original trials and noise; with record=True the
     result carries the full per-cycle Trace (joint angles, muscle outputs, fixation, ...), with
-    record="behaviour" only the BehaviourRecord of the study's behaviour rows."""
+    record="behaviour" only the BehaviourRecord of the study's behaviour rows. The controller is
+    the one the folder records (CONTROLLER_FILE), unless ``evaluator`` is given."""
     data = RunData(run_dir)
-    evaluator = evaluator or InProcessEvaluator(data.config)
+    evaluator = evaluator or InProcessEvaluator(data.config, recorded_controller(data))
     return evaluator.test_generation(data.genomes(generation), data.seed, data.run, generation,
                                      record)
 
 
+
+
+def recorded_controller(data: RunData) -> Controller | None:
+    """The controller a run folder records, made for a whole population (None: the
+    condition's network); ResultsError for one that only an outside node can run."""
+    record = read_controller_record(data.path)
+    if record is None:
+        return None
+    if not record.get("class"):
+        raise ResultsError(f"{data.path} was evolved with {record['controller']}, a controller "
+                           "node outside econet_ros: test it through the graph")
+    e = data.config.evolution
+    return resolve(record["class"])(e.population * e.trials, data.config)

@@ -7,10 +7,13 @@
 nodes of one process, graph_node; the supervisor evolves a population through the graph and
 writes its result folder to `out`.) Its arguments are the supervisor's parameters, generated
 from its PARAMETERS table (econet_ros.config's evolution settings and the supervisor's run
-parameters), so they cannot drift. The composed process gets each node's parameters in that
+parameters), so they cannot drift; the controller node gets the supervisor's config, condition
+and controller and decides from them as the supervisor does (`controller:=random` runs random
+movement in both forms). The composed process gets each node's parameters in that
 node's own section of its command line (graph_node), not as a parameters file, which would give
-them to all three. The launch package is not installable here; scripts/graph-demo [--composed]
-does the same from a checkout.
+them to all three. The launch package is not installable here: tests/nodes/test_graph_commands.py
+builds this description with stand-ins for it and runs what it would start; scripts/graph-demo
+[--composed] does the same from a checkout.
 """
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
@@ -38,7 +41,9 @@ def generate_launch_description():
     c = {name: LaunchConfiguration(name) for name in ARGS}
     apart, composed = (UnlessCondition(LaunchConfiguration("composed")),
                        IfCondition(LaunchConfiguration("composed")))
-    controller = {"controller": c["condition"], "config": c["config"]}
+    # the controller node decides as the supervisor does (plugins.chosen_controller), from the
+    # same values: controller:=NAME, else the condition's network
+    controller = {name: c[name] for name in ("config", "condition", "controller")}
     return LaunchDescription([
         DeclareLaunchArgument("composed", default_value="false",
                               description="world, controller and supervisor in one process"),

@@ -9,8 +9,7 @@ from ..cuda import make_evaluator
 from ..errors import UsageError
 from ..evolution import Evaluator
 from ..plugins import resolve
-from ..runs import (CONTROLLER_FILE, controller_record, record_controller, run_condition,
-                    writing_into)
+from ..runs import CONTROLLER_FILE, controller_record, run_condition, writing_into
 from .options import add_config_options, add_device_option, add_run_options, config_from
 
 
@@ -34,9 +33,8 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     evaluator, record = _evaluator(args.controller, config, args.device)
     with writing_into(out, overwrite=args.overwrite):
-        record_controller(out, args.runs, record)
         print(run_condition(config, args.runs, args.seed, out, progress=not args.quiet,
-                            evaluator=evaluator))
+                            evaluator=evaluator, plugin=record))
     if record:
         print(f"  controller: {record['controller']} ({record['class']}), recorded in "
               f"run-NN/{CONTROLLER_FILE}")
@@ -45,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _evaluator(name: str | None, config, device: str) -> tuple[Evaluator, dict | None]:
     """The evaluator on ``device`` of the condition's network or an evolvable plug-in, and the
-    run folders' controller record (None for the condition's own network)."""
+    run folders' controller record (None for the condition's own network, named or not)."""
     if name is None:
         return make_evaluator(config, device), None
     cls = resolve(name)
@@ -57,4 +55,5 @@ def _evaluator(name: str | None, config, device: str) -> tuple[Evaluator, dict |
     if controller.n_params < 1:
         raise UsageError(f"controller '{name}' has nothing to evolve (n_params = "
                          f"{controller.n_params}); try econet evaluate --controller {name}")
-    return make_evaluator(config, device, controller), controller_record(name, controller)
+    record = controller_record(name, cls, controller.n_params, e.condition)
+    return make_evaluator(config, device, controller if record else None), record

@@ -13,11 +13,12 @@ import sys
 
 import numpy as np
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 from ..config import Config
 from ..errors import ConfigError, PluginError
 from .lockstep_wire import CommandMessage, SensorMessages
-from ..plugins import resolve
+from ..plugins import chosen_controller, resolve
 from ..topics import COMMAND, MAX_ENVS, SENSORS, observation_from_fields, sensor_problem
 from ..world import World
 from . import graph
@@ -27,8 +28,11 @@ MAX_PENDING = 16     # incomplete cycles kept while waiting for their other sens
 
 
 PARAMETERS = (
-    Param("controller", "normal", "a registered name (normal, three-layer, random, reacher, or "
-                                  "a plug-in's entry point) or module:Class"),
+    Param("controller", "", "a registered name (normal, three-layer, random, reacher, or a "
+                            "plug-in's entry point) or module:Class; empty = the condition's "
+                            "network (as the supervisor's controller)"),
+    Param("condition", "", "the paper condition whose network runs when controller is empty "
+                           "(give it the supervisor's condition); empty = the config's"),
     Param("config", "", "JSON config file (as econet --config); its model and network sections "
                         "size the network; empty = defaults"),
     Param("n_envs", 1, "environments at start-up (set_weights may change it)", low=1,
@@ -44,19 +48,12 @@ class ControllerNode(Node):
         """node_options go to rclpy's Node (e.g. cli_args, as graph_node gives them)."""
         super().__init__("controller", **node_options)
         v = declare_parameters(self, PARAMETERS)
-        self.controller_name = v["controller"]
         self.config = node_config(v["config"])
-        default_from(self, v, {"max_abs_weight": self.config.evolution.weight_range})
+        default_from(self, v, {"max_abs_weight": self.config.evolution.weight_range,
+                               "condition": self.config.evolution.condition})
+        self.named = v["controller"]        # "" when none was named (graph_node asks)
         self.max_abs, n_envs = v["max_abs_weight"], v["n_envs"]
-        try:
-            self.cls = resolve(self.controller_name)
-            self.controller = self.cls(n_envs, self.config)
-            self._compile_kernels()
-        except PluginError:
-            raise
-        except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
-            raise ConfigError(f"controller '{self.controller_name}' failed to start: "
-                              f"{type(error).__name__}: {error}") from None
+        self._start(chosen_controller(v["condition"], self.named), n_envs)
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
         self.command = CommandMessage(n_envs)
 
@@ -67,6 +64,30 @@ class ControllerNode(Node):
             graph.subscription(self, part, lambda data, gid, part=part: self._on_part(
                 part, data, gid), raw=True, with_publisher=True)
         graph.service(self, "set_weights", self._on_set_weights)
+        self._say_ready()
+
+    def _start(self, name: str, n_envs: int) -> None:
+        """Run the controller ``name`` (its kernels compiled), or ConfigError in one line."""
+        try:
+            self.cls = resolve(name)
+            self.controller = self.cls(n_envs, self.config)
+            self._compile_kernels()
+        except PluginError:
+            raise
+        except Exception as error:  # noqa: BLE001 - a plug-in that fails: one line
+            raise ConfigError(f"controller '{name}' failed to start: "
+                              f"{type(error).__name__}: {error}") from None
+        self.controller_name = name
+
+    def follow(self, name: str) -> None:
+        """Run the controller the graph's supervisor decided on (graph_node: the controller
+        named in either node's section, else the supervisor's condition's network)."""
+        if name != self.controller_name:
+            self._start(name, self.controller.n_envs)
+            self.set_parameters([Parameter("controller", value=name)])
+            self._say_ready()
+
+    def _say_ready(self) -> None:
         self.get_logger().info(f"controller ready: {self.controller_name} ({self.cls.__module__}:"
                                f"{self.cls.__qualname__}), "
                                f"{self.controller.n_params} weights per environment")

@@ -13,7 +13,10 @@ a component container (a namespace for the whole graph, `-p config:=FILE`, a --p
 one section per node, a log level). Topics, services and parameters are those of the nodes
 apart, so an outside node (a monitor, a recorder, another controller, ros2 topic echo, ros2
 param get /world n_envs) sees and uses them as it would with three processes; the messages
-still go through the middleware.
+still go through the middleware. The graph runs one controller (plugins.chosen_controller): the
+one named with controller:= in the controller's or the supervisor's section (naming two is an
+error), else the supervisor's condition's network; the example runs random movement and records
+it in run-01/controller.json, as `econet evolve --controller random` does.
 
 One executor in one thread: the supervisor evolves as it does alone, and while it waits for a
 service reply or for touch it spins that executor, which runs the world's and controller's
@@ -25,10 +28,12 @@ from __future__ import annotations
 
 import importlib
 import sys
+from typing import Callable
 
 from rclpy.node import Node
 
 from ..errors import EconetError, UsageError
+from ..plugins import EXTERNAL
 from .runner import check_stop, print_help, run_nodes, wants_help
 
 NODES = ("world", "controller", "recorder", "viewer", "supervisor")     # in the order built
@@ -73,13 +78,27 @@ def node_class(name: str) -> type[Node]:
     return getattr(module, f"{name.capitalize()}Node")
 
 
-def _maker(name: str, cls: type[Node], cli_args: list[str]):
-    def make() -> Node:
-        try:
-            return cls(cli_args=cli_args)
-        except EconetError as error:            # say which node: they share the command line
-            raise type(error)(f"{name}: {error}") from None
-    return make
+def makers(names: list[str], sections: dict[str, list[str]]) -> list[Callable[[], Node]]:
+    """A maker per named node, each building its node from its own section. The graph runs
+    one controller: a controller named in the controller's section counts as named to the
+    supervisor, and the controller node then runs what the supervisor decided
+    (plugins.chosen_controller)."""
+    built: dict[str, Node] = {}
+
+    def maker(name: str, cls: type[Node]) -> Callable[[], Node]:
+        def make() -> Node:
+            options = {"cli_args": sections.get(name, [])}
+            if name == "supervisor":
+                options["controller_section"] = built["controller"].named
+            try:
+                node = built[name] = cls(**options)
+                if name == "supervisor" and node.controller != EXTERNAL:
+                    built["controller"].follow(node.controller)
+            except EconetError as error:        # say which node: they share the command line
+                raise type(error)(f"{name}: {error}") from None
+            return node
+        return make
+    return [maker(name, node_class(name)) for name in names]
 
 
 def _run(nodes: list[Node], executor) -> int:
@@ -115,11 +134,11 @@ def main(args: list[str] | None = None) -> int:
                               "--help (as scripts/node NODE --help).")
         check_sections(shared, sections)
         names = [name for name in NODES if name in ALWAYS or name in sections]
-        makers = [_maker(name, node_class(name), sections.get(name, [])) for name in names]
+        graph = makers(names, sections)
     except UsageError as error:
         print(f"{prog}: error: {error}", file=sys.stderr)
         return 2
-    return run_nodes(prog, [args[0], *shared], makers, _run)
+    return run_nodes(prog, [args[0], *shared], graph, _run)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 
 from ..config import Config, Setting, checked_value, load_config
-from ..errors import ConfigError, EconetError
+from ..errors import ConfigError, EconetError, options_as_parameters
 
 
 class Param(NamedTuple):
@@ -214,7 +214,14 @@ def run_nodes(prog: str, args: list[str], makers: list[Callable[[], Node]],
               run: Callable[[list[Node], object], int | None]) -> int:
     """rclpy started with ``args`` (its global arguments), the nodes built in order and added
     to one executor, then run(nodes, executor); every node is destroyed at the end. An
-    EconetError is one line on stderr (exit 2), a signal a quiet end (exit 0)."""
+    EconetError is one line on stderr (exit 2), naming options as node parameters
+    (overwrite:=true), a signal a quiet end (exit 0)."""
+    with options_as_parameters():
+        return _run_nodes(prog, args, makers, run)
+
+
+def _run_nodes(prog: str, args: list[str], makers: list[Callable[[], Node]],
+               run: Callable[[list[Node], object], int | None]) -> int:
     _catch_signals()
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)

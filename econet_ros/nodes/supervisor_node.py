@@ -33,14 +33,12 @@ from econet_msgs.msg import EvolutionProgress
 from ..config import SETTINGS
 from ..errors import ConfigError
 from ..evolution import GenerationResult
-from ..plugins import resolve
+from ..plugins import EXTERNAL, chosen_controller, resolve
 from ..files import ensure_writable
-from ..runs import run_condition, run_folder, writing_into
+from ..runs import controller_record, run_condition, run_folder, writing_into
 from . import graph
 from .graph_evaluator import GraphEvaluator
 from .runner import Param, declare_parameters, default_from, node_config, run_node
-
-EXTERNAL = "external"     # controller:=external: a controller node the supervisor does not know
 
 # Parameters beyond the config's evolution settings.
 RUN_PARAMETERS = (
@@ -49,8 +47,9 @@ RUN_PARAMETERS = (
     Param("out", "results/graph", "output folder (same layout as econet evolve --out)"),
     Param("controller", "", "controller the controller node runs, if not the condition's "
                             "network: a registered name or module:Class (its n_params sizes "
-                            "the genomes), or 'external' for a node the supervisor does not "
-                            "know (give n_weights)"),
+                            "the genomes; recorded in run-NN/controller.json as econet evolve "
+                            "--controller does), or 'external' for a node the supervisor does "
+                            "not know (give n_weights)"),
     Param("n_weights", 0, "controller:=external only: weights per econet that the outside "
                           "controller node takes (its set_weights gets weights_per_network = "
                           "this)", low=0),
@@ -74,8 +73,10 @@ PARAMETERS = (Param("config", "", "JSON config file (as econet --config); it giv
 
 
 class SupervisorNode(Node):
-    def __init__(self, **node_options):
-        """node_options go to rclpy's Node (e.g. namespace, parameter_overrides)."""
+    def __init__(self, controller_section: str = "", **node_options):
+        """node_options go to rclpy's Node (e.g. namespace, parameter_overrides);
+        controller_section: the controller named in the controller node's own section of a
+        composed graph (graph_node), which counts as named here."""
         super().__init__("supervisor", **node_options)
         self.v = declare_parameters(self, PARAMETERS)
         base = node_config(self.v["config"])
@@ -85,8 +86,10 @@ class SupervisorNode(Node):
         self.config = base.replace(**changes)
         self.out = Path(self.v["out"])
         ensure_writable(self.out)
-        self.controller = self.v["controller"] or self.config.evolution.condition
-        n_weights = self._weight_count()
+        condition = self.config.evolution.condition
+        self.controller = chosen_controller(condition, self._named(controller_section))
+        n_weights, cls = self._weight_count()
+        self.plugin = controller_record(self.controller, cls, n_weights, condition)
         self.record_dir = Path(self.v["record_dir"] or self.out / "bags")
         recorder = None
         if self.v["record_every"]:
@@ -100,19 +103,30 @@ class SupervisorNode(Node):
         self.pub_progress = graph.publisher(self, "progress")
         self.started = time.monotonic()
 
-    def _weight_count(self) -> int:
-        """Weights per econet: the named controller's n_params, or n_weights for an external
-        one (ConfigError if they are missing or given where they do not apply)."""
+    def _named(self, section: str) -> str:
+        """The controller named here or in the controller node's section (ConfigError if
+        they name two)."""
+        own = self.v["controller"]
+        if own and section and own != section:
+            raise ConfigError(f"controller:={own}, but the controller node's section says "
+                              f"controller:={section}; name it once")
+        return own or section
+
+    def _weight_count(self) -> tuple[int, type | None]:
+        """Weights per econet and the controller's class: the named controller's n_params, or
+        n_weights and None for an external one (ConfigError if they are missing or given
+        where they do not apply)."""
         n_weights = self.v["n_weights"]
         if self.controller != EXTERNAL:
             if n_weights:
                 raise ConfigError(f"n_weights is for controller:=external; the "
                                   f"'{self.controller}' controller has its own weight count")
-            return resolve(self.controller)(1, self.config).n_params
+            cls = resolve(self.controller)
+            return cls(1, self.config).n_params, cls
         if n_weights < 1:
             raise ConfigError("controller:=external needs n_weights:=K, the weights per econet "
                               "that the outside controller node takes (at least 1)")
-        return n_weights
+        return n_weights, None
 
     # -- per generation -----------------------------------------------------------------------
     def on_generation(self, run: int, result: GenerationResult, offspring: np.ndarray) -> None:
@@ -173,7 +187,7 @@ class SupervisorNode(Node):
             self.started = time.monotonic()
             summary = run_condition(
                 self.config, v["runs"], v["seed"], self.out, progress=False,
-                evaluator=self.evaluator, on_generation=self.on_generation)
+                evaluator=self.evaluator, on_generation=self.on_generation, plugin=self.plugin)
         self.get_logger().info(summary.replace("\n", " |"))
         # Stay a moment so that monitors, including ones that match only now, receive the last
         # progress messages (the transient-local history goes away with the process).
