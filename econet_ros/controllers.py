@@ -22,7 +22,7 @@ import numpy as np
 
 from .config import Config
 from .elementary import EXP_NEAR_LIMIT, exp_near
-from .world import N_MOTOR, N_PROPRIO, Observation
+from .world import N_MOTOR, N_PROPRIO, Observation, n_inputs, sense_rows
 
 
 class Controller(ABC):
@@ -81,8 +81,7 @@ class FeedForwardNetwork(Controller):
         order (the others stay zero: connections a unit lacks); None: all of them."""
         super().__init__(n_envs, config)
         self.wired = wired
-        n_inputs = config.model.visual_units + N_PROPRIO + 1
-        spans, end, n_weights = [], n_inputs, 0
+        spans, end, n_weights = [], n_inputs(config.model), 0
         for start, stop, units in layers:
             spans.append((start, stop, end, end + units))
             n_weights += (stop - start) * units
@@ -101,9 +100,7 @@ class FeedForwardNetwork(Controller):
         """Bool mask over the flat weight vector: True for every weight that reads one of the
         sense's input units ("vision", "proprio" or "touch"), wherever the layers put it (a
         lesion severs a sense with it)."""
-        vision = self.config.model.visual_units
-        senses = {"vision": (0, vision), "proprio": (vision, vision + N_PROPRIO),
-                  "touch": (vision + N_PROPRIO, vision + N_PROPRIO + 1)}   # the input rows
+        senses = sense_rows(self.config.model.visual_units)
         if sense not in senses:
             raise ValueError(f"unknown sense '{sense}' (choose from {', '.join(senses)})")
         first, stop = senses[sense]
@@ -131,7 +128,7 @@ class FeedForwardNetwork(Controller):
         return self._outputs(obs.vision, obs.proprio, obs.touch)
 
     def forward(self, inputs: np.ndarray) -> np.ndarray:
-        """Outputs (n, 5) for network inputs (n, visual_units + 5)."""
+        """Outputs (n, 5) for network inputs (n, n_inputs)."""
         inputs = np.asarray(inputs, dtype=np.float64)
         units = self.config.model.visual_units
         if inputs.ndim != 2:
@@ -164,8 +161,8 @@ class FourLayerNetwork(FeedForwardNetwork):
     mixed."""
 
     def __init__(self, n_envs: int, config: Config):
-        vis, net = config.model.visual_units, config.network
-        touch = vis + N_PROPRIO                      # index of the touch input
+        net, rows = config.network, sense_rows(config.model.visual_units)
+        vis, touch = rows["vision"][1], rows["touch"][0]
         hidden_end = touch + 1 + net.visual_hidden + net.proprio_hidden
         scrambled = net.first_layer_wiring == "scrambled"
         super().__init__(n_envs, config, [
@@ -182,8 +179,8 @@ def scrambled_wiring(config: Config) -> np.ndarray:
     visual hidden unit reads visual_units, each proprioceptive one N_PROPRIO of the vision and
     proprioception inputs, a subset drawn without repeats per unit from network.wiring_seed
     and read in input order; every later weight as in the modular net."""
-    vis, net = config.model.visual_units, config.network
-    senses = vis + N_PROPRIO
+    net, rows = config.network, sense_rows(config.model.visual_units)
+    vis, senses = rows["vision"][1], rows["proprio"][1]     # senses: vision and proprioception
     rng = np.random.default_rng(net.wiring_seed)
     sizes = [vis] * net.visual_hidden + [N_PROPRIO] * net.proprio_hidden
     first = [unit * senses + np.sort(rng.choice(senses, size, replace=False))
@@ -197,7 +194,7 @@ class ThreeLayerNetwork(FeedForwardNetwork):
     """The paper's comparison network: all senses into one hidden layer."""
 
     def __init__(self, n_envs: int, config: Config):
-        n_in = config.model.visual_units + N_PROPRIO + 1
+        n_in = n_inputs(config.model)
         hidden = config.network.three_layer_hidden
         super().__init__(n_envs, config, [(0, n_in, hidden), (n_in, n_in + hidden, N_MOTOR)])
 

@@ -7,8 +7,8 @@ numba-cuda); ``CudaEvaluator`` is the Evaluator of runs.evolve_into on it and, t
 one launch per generation. Trial starts, genome decoding, movement noise, selection and
 mutation stay on the host, drawn from the same NumPy streams as on the CPU, so a run's folder
 is the same file for file (docs/speed.md). numba-cuda is an extra (``pip install ".[cuda]"``);
-this module imports it only when a GPU is asked for, and says in one line when it cannot be
-had.
+econet_ros.devices imports this module only when a GPU is asked for, and this module says in
+one line when it cannot be had.
 """
 from __future__ import annotations
 
@@ -20,39 +20,15 @@ import numpy as np
 from .config import Config
 from .controllers import Controller
 from .errors import DeviceError
-from .evolution import (BatchEvaluator, Evaluator, GenerationRequest, GenerationResult,
-                        InProcessEvaluator, generation_setups, genome_weights, noise_seed,
-                        score_generation)
+from .evolution import (BatchEvaluator, GenerationRequest, GenerationResult, generation_setups,
+                        genome_weights, noise_seed, score_generation)
 from .plugins import make_controller
 from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Tally, Trace,
                      TrialMeasures, WorldArrays)
 from .world import Geometry, TrialSetup, check_setup
 
-DEVICES = ("cpu", "cuda")
-GPUS_PER_RUN = 0.125     # a sweep's run asks Ray for this share of a GPU: 8 runs share one
 
-
-def gpus_per_run(device: str) -> float:
-    """The share of a GPU a Ray task evolving one run asks for on ``device``."""
-    return GPUS_PER_RUN if device == "cuda" else 0.0
-
-
-def make_evaluator(config: Config, device: str = "cpu",
-                   controller: Controller | None = None) -> Evaluator:
-    """The evaluator that tests populations on ``device`` ("cpu" or "cuda")."""
-    if device == "cuda":
-        return CudaEvaluator(config, controller)
-    return InProcessEvaluator(config, controller)
-
-
-def require_device(device: str) -> None:
-    """DeviceError now, in one line, when ``device`` cannot be used here (before a command
-    that hands the work to other processes starts any)."""
-    if device == "cuda":
-        _kernels()
-
-
-def _kernels():
+def load_kernels():
     """econet_ros.cuda_kernels, or DeviceError when numba-cuda or a GPU is missing."""
     try:
         from . import cuda_kernels
@@ -82,7 +58,7 @@ class CudaEngine:
 
     def __init__(self, config: Config, controller: Controller | None = None):
         e = config.evolution
-        self.kernels = _kernels()
+        self.kernels = load_kernels()
         self.config = config
         self.n_envs = e.population * e.trials
         self.controller = controller or make_controller(e.condition, self.n_envs, config)

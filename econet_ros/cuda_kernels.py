@@ -25,7 +25,7 @@ from numba import typeof
 from .config import Config
 from .plugins import make_controller
 from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, Tally, WorldArrays, run_block_trials
-from .world import N_MOTOR, N_PROPRIO, Geometry
+from .world import N_MOTOR, Geometry
 
 if not hasattr(np, "row_stack"):       # numba-cuda 0.30.4 names it at import; NumPy 2.5 has not
     np.row_stack = np.vstack
@@ -96,8 +96,7 @@ def trial_kernel(rows: int, n_inputs: int):
 def kernel_for(policy: Policy, geometry: Geometry):
     """The trial kernel for a policy's activation buffer (its network's; the senses alone for a
     motor table) and the geometry's senses."""
-    n_inputs = geometry.visual_units + N_PROPRIO + 1
-    return trial_kernel(max(policy.buffer_size, n_inputs), n_inputs)
+    return trial_kernel(max(policy.buffer_size, geometry.n_inputs), geometry.n_inputs)
 
 
 def launch(kernel, n_envs: int, *args) -> None:

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from .controllers import CompiledPolicy, Controller, forward_block
-from .world import N_MOTOR, N_PROPRIO, TrialSetup, World, move, sense
+from .world import N_MOTOR, TrialSetup, World, move, sense
 
 
 @dataclass
@@ -376,7 +376,7 @@ def _run_block(k, world, geo, policy, cycles, tally, trace, behaviour, record_tr
     into the parallel loop: numba loses writes to arrays reached through a tuple's fields inside
     a prange body (numba/numba#7135)."""
     block = policy.block
-    n_inputs = geo.visual_units + N_PROPRIO + 1
+    n_inputs = geo.n_inputs
     run_block_trials(k * block, k, world, geo, policy, cycles,
                      np.zeros((max(policy.buffer_size, n_inputs), block)), np.zeros(block),
                      np.zeros(n_inputs), np.zeros(N_MOTOR), np.zeros((block, 3)),

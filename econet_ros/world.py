@@ -55,6 +55,19 @@ N_MOTOR = 5
 N_PROPRIO = 4
 
 
+def sense_rows(visual_units: int) -> dict[str, tuple[int, int]]:
+    """Where each sense lies in the network's input vector (Observation.network_input): vision,
+    proprioception, touch, as (start, stop); the last stop is the number of inputs."""
+    proprio_stop = visual_units + N_PROPRIO
+    return {"vision": (0, visual_units), "proprio": (visual_units, proprio_stop),
+            "touch": (proprio_stop, proprio_stop + 1)}
+
+
+def n_inputs(model: ModelConfig) -> int:
+    """The network's input count for ``model``'s visual units."""
+    return sense_rows(model.visual_units)["touch"][1]
+
+
 @dataclass
 class Observation:
     """What the senses report for a batch of environments at one cycle."""
@@ -66,7 +79,7 @@ class Observation:
     fixated: np.ndarray
 
     def network_input(self) -> np.ndarray:
-        """The (n, visual_units + 5) input vector: vision, proprioception, touch."""
+        """The (n, n_inputs) input vector: vision, proprioception, touch (sense_rows)."""
         return np.concatenate([self.vision, self.proprio, self.touch[:, None]], axis=1)
 
 
@@ -186,6 +199,7 @@ class Geometry(NamedTuple):
     cancel_at_limit: bool  # a joint move past a limit is not made (else it stops at the limit)
     half_fov_deg: float    # half_fov and window in degrees, to find the hand's tip exactly on
     window_deg: float      # a window edge
+    n_inputs: int          # the network's input count (sense_rows)
 
     @classmethod
     def of(cls, model: ModelConfig) -> "Geometry":
@@ -199,7 +213,8 @@ class Geometry(NamedTuple):
                    math.radians(model.field_of_view_deg / n_windows), model.windows_per_unit,
                    model.visual_units, tip_base, body_range,
                    ANGLE_STEPS.index(model.angle_steps), model.joint_limit == "cancel",
-                   model.field_of_view_deg / 2, model.field_of_view_deg / n_windows)
+                   model.field_of_view_deg / 2, model.field_of_view_deg / n_windows,
+                   n_inputs(model))
 
     def window_edges(self) -> tuple[np.ndarray, np.ndarray]:
         """Unit vectors (x, y) of the window edges in the eye's frame, right to left."""
@@ -310,7 +325,7 @@ class World:
     def _new_senses(self) -> tuple[np.ndarray, np.ndarray]:
         """Arrays for one cycle's senses: the network input layout (vision, proprioception,
         touch side by side, per environment) and the fixation flags."""
-        return (np.empty((self.n_envs, self.model.visual_units + N_PROPRIO + 1)),
+        return (np.empty((self.n_envs, self.geometry.n_inputs)),
                 np.empty(self.n_envs, dtype=np.bool_))
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cuda import make_evaluator
+from ..devices import make_evaluator
 from ..errors import UsageError
 from ..evolution import Evaluator
 from ..plugins import resolve

@@ -7,7 +7,7 @@ import argparse
 import json
 
 from ..config import SETTINGS, Config, Setting, load_config
-from ..cuda import DEVICES
+from ..devices import DEVICES
 from ..errors import UsageError
 
 

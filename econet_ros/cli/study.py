@@ -7,7 +7,7 @@ import os
 import time
 from pathlib import Path
 
-from ..cuda import require_device
+from ..devices import require_device
 from ..errors import UsageError
 from ..runs import writing_into
 from ..science.report import build_report, report_paths

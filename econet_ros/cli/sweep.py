@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ..cuda import require_device
+from ..devices import require_device
 from ..errors import ResultsError
 from ..files import ensure_writable
 from ..science.sweeps.spec import load_spec

@@ -10,7 +10,7 @@ from gymnasium import spaces
 
 from ..config import Config, ConfigError
 from ..errors import ActionError, SetupError
-from ..world import N_MOTOR, N_PROPRIO, TrialSetup, World, sample_setups
+from ..world import N_MOTOR, TrialSetup, World, n_inputs, sample_setups
 
 # Reset options: each replaces the drawn value of that part of the trial start.
 OPTIONS = ("object_xy", "body", "shoulder", "elbow")
@@ -30,7 +30,7 @@ class ReachTask:
                               f"got {self.cycles!r}")
         model = self.config.model
         self.world = World(n_envs, model)
-        self.observation_space = spaces.Box(0.0, 1.0, (model.visual_units + N_PROPRIO + 1,),
+        self.observation_space = spaces.Box(0.0, 1.0, (n_inputs(model),),
                                             np.float64)
         self.action_space = spaces.Box(0.0, 1.0, (N_MOTOR,), np.float64)
 

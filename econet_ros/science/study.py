@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import CONDITIONS, Config, ConfigError
-from ..cuda import make_evaluator
+from ..devices import make_evaluator
 from ..errors import ResultsError
 from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
@@ -221,7 +221,7 @@ def _run_task(task, device: str = "cpu") -> int:
 def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True,
               device: str = "cpu") -> float:
     """Run (or resume) every run of the study (plus the variants an existing folder already
-    holds), testing populations on ``device`` (cuda.make_evaluator); returns the wall time in
+    holds), testing populations on ``device`` (devices.make_evaluator); returns the wall time in
     seconds."""
     from tqdm import tqdm
 

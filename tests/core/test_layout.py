@@ -64,6 +64,21 @@ def test_the_reference_model_loads_nothing_of_the_engine():
         f"the reference model loads the engine: {sorted(loaded - REFERENCE_MAY_LOAD)}"
 
 
+def test_cpu_users_never_load_the_cuda_back_end():
+    """The command line, the study and the sweep reach devices only through econet_ros.devices,
+    which imports econet_ros.cuda when a GPU is asked for."""
+    code = ("import sys\n"
+            "import econet_ros.cli.main, econet_ros.science.study, econet_ros.devices\n"
+            "import econet_ros.science.sweeps.runner\n"
+            "from econet_ros.cli.main import build_parser\n"
+            "build_parser()\n"
+            "print(' '.join(m for m in sys.modules\n"
+            "               if m.startswith(('econet_ros.cuda', 'numba.cuda'))))\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            check=True)
+    assert result.stdout.strip() == "", f"CPU users load: {result.stdout}"
+
+
 def test_kernel_cache_key_lists_every_module_with_kernels():
     with_kernels = {str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")
                     if "@numba.njit" in p.read_text(encoding="utf-8")}

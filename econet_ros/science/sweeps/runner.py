@@ -22,7 +22,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from ...config import Config
-from ...cuda import gpus_per_run, make_evaluator
+from ...devices import gpus_per_run, make_evaluator
 from ...errors import UsageError
 from ...provenance import SHIPPED, shipped
 from ...runs import evolve_into
@@ -65,7 +65,7 @@ def run_sweep(spec: SweepSpec, out: Path, address: str | None = None,
               workers: int | None = None, progress: bool = True,
               device: str = "cpu") -> tuple[int, int]:
     """Run (or finish) every run of the sweep into ``out``, its trials tested on ``device``
-    (a run on cuda asks Ray for cuda.gpus_per_run of a GPU); returns (runs done now, runs in
+    (a run on cuda asks Ray for devices.gpus_per_run of a GPU); returns (runs done now, runs in
     all)."""
     out = Path(out)
     prepare_folder(spec, out)

@@ -1,0 +1,38 @@
+"""Where a command tests its populations (``--device``): the table of devices and the one
+factory every command, the study and the sweep's tasks use.
+
+The CPU evaluator is this process's (evolution.InProcessEvaluator); a GPU's lives in
+econet_ros.cuda, which is imported only when a GPU is asked for, so that CPU users never load
+the CUDA back-end. Asking for one that cannot be had is a one-line DeviceError (cuda.py says
+why: numba-cuda missing, or no usable GPU).
+"""
+from __future__ import annotations
+
+from .config import Config
+from .controllers import Controller
+from .evolution import Evaluator, InProcessEvaluator
+
+DEVICES = ("cpu", "cuda")
+GPUS_PER_RUN = {"cpu": 0.0, "cuda": 0.125}     # a sweep's Ray task: 8 runs share one GPU
+
+
+def make_evaluator(config: Config, device: str = "cpu",
+                   controller: Controller | None = None) -> Evaluator:
+    """The evaluator that tests populations on ``device`` (one of DEVICES)."""
+    if device == "cuda":
+        from .cuda import CudaEvaluator
+        return CudaEvaluator(config, controller)
+    return InProcessEvaluator(config, controller)
+
+
+def require_device(device: str) -> None:
+    """DeviceError now, in one line, when ``device`` cannot be used here (before a command
+    that hands the work to other processes starts any)."""
+    if device == "cuda":
+        from .cuda import load_kernels
+        load_kernels()
+
+
+def gpus_per_run(device: str) -> float:
+    """The share of a GPU a Ray task evolving one run asks for on ``device``."""
+    return GPUS_PER_RUN[device]
