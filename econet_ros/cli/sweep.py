@@ -120,7 +120,7 @@ def units(text: str) -> tuple[int, int, int]:
 
 
 def _transplant(args: argparse.Namespace) -> int:
-    from ..science.sweeps.transplant import kept_flags, run_transplants
+    from ..studies.transplant import kept_flags, run_transplants
     ensure_writable(Path(args.out))
     record = run_transplants(Path(args.source), Path(args.out), args.into,
                              on_run=None if args.quiet else lambda what: print(f"done: {what}",
@@ -132,7 +132,7 @@ def _transplant(args: argparse.Namespace) -> int:
 
 
 def _experiments(args: argparse.Namespace) -> int:
-    from ..science.sweeps.family import experiments_page
+    from ..studies.family import experiments_page
     ensure_writable(Path(args.out))
     against = Path(args.against) if args.against else None
     if against is not None and not against.is_file():

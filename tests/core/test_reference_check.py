@@ -12,7 +12,7 @@ import pytest
 import reference_check as check
 from econet_ros.config import Config
 from econet_ros.files import cut_table
-from econet_ros.science.sweeps import experiments, family
+from econet_ros.studies import experiments, family
 from reference_partings import CONTACT_EDGE
 from sweep_helpers import evolved_sweep
 

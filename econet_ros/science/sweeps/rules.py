@@ -3,9 +3,9 @@ table with `name = "NAME"` and the cells (and companion sweep) the rule needs, a
 committed before its sweep ran, `registered = "<commit>"`: the commit that registered it. A
 rule says what its sweep's summary shows (markdown, figures), what it makes of the defaults,
 and what it adds to the study report's architecture section; the report asks the rule and
-never the sweep's name. The rules' arithmetic lives in regime.py (the decision rule of "Finding
-the paper's regime"), confirm.py (the pre-registered rule: H1-H3 and the exploratory
-readings) and experiments.py (the pre-registered experiments E1-E3)."""
+never the sweep's name. The rules' arithmetic lives in the studies wing (econet_ros/studies):
+regime.py (the rule of "Finding the paper's regime"), confirm.py (the pre-registered rule:
+H1-H3 and the exploratory readings) and experiments.py (the experiments E1-E3)."""
 from __future__ import annotations
 
 import os
@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ...errors import ConfigError
 from ...provenance import registration
-from . import confirm, experiments, regime
+from ...studies import confirm, experiments, regime
 from .figures import LOAD_MAP, load_map_figure
 from .plan import SweepSpec
 

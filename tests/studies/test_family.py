@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from econet_ros.cli import main
-from econet_ros.science.sweeps import experiments, family
+from econet_ros.studies import experiments, family
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
 from sweep_helpers import evolved_sweep
 

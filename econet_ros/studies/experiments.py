@@ -12,13 +12,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...config import Config
-from ...evolution import InProcessEvaluator, initial_genomes
-from .. import holding
-from ..claims import RANGE_SHARE
-from ..stats import Estimate, firth_logistic, holm, paired, share, share_difference
-from ..verdicts import DECIDED, INCONCLUSIVE, MOST, Criterion, Row, above, decide
-from .plan import SweepSpec, values
+from ..config import Config
+from ..evolution import InProcessEvaluator, initial_genomes
+from ..science import holding
+from ..science.claims import RANGE_SHARE
+from ..science.stats import (Estimate, firth_logistic, holm, paired, share,
+                             share_difference)
+from ..science.sweeps.plan import SweepSpec, values
+from ..science.verdicts import DECIDED, INCONCLUSIVE, MOST, Criterion, Row, above, decide
 
 LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does not matter (H3b's)
 SCREEN_MARGIN = RANGE_SHARE   # E2-S: a share's margin, 5% of its range

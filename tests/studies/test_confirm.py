@@ -6,11 +6,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from econet_ros.science.sweeps import confirm
+from econet_ros.studies import confirm
 from econet_ros.science.sweeps.rules import RULES, Swept
 from econet_ros.science.sweeps.spec import load_spec
 
-SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
 CONFIRM = load_spec(SPECS / "confirm.toml")
 MAP = load_spec(SPECS / "load-map.toml")
 NETS = RULES["confirmatory"].networks(Swept(CONFIRM, []))      # the cells its [rule] names

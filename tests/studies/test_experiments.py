@@ -10,13 +10,13 @@ import pytest
 from econet_ros.config import Config
 from econet_ros.errors import ConfigError
 from econet_ros.plugins import make_controller
-from econet_ros.science.sweeps import experiments
+from econet_ros.studies import experiments
 from econet_ros.science.sweeps.plan import SweepSpec
 from econet_ros.science.sweeps.rules import RULES, Swept, family_markdown, rule_of
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, NOT_JUDGED, REPLICATES, REVERSED
 
-SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
 WIDTH = load_spec(SPECS / "e1-width.toml")
 RANGE = load_spec(SPECS / "e1-range.toml")
 ONSET = load_spec(SPECS / "e2-onset-long.toml")
