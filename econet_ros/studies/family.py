@@ -21,12 +21,13 @@ from ..errors import ResultsError
 from ..provenance import made_with
 from ..science import holding
 from ..science.stats import share
-from ..science.sweeps.figures import experiments_figure
 from ..science.sweeps.outcomes import run_series, tidy_rows
-from ..science.sweeps.rules import Experiment, Swept, rule_of
+from ..science.sweeps.rules import Swept, rule_of
 from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, FOUR_VERDICTS, INCONCLUSIVE, REPLICATES, REVERSED
 from . import experiments, transplant
+from .figures import experiments_figure
+from .rules import Experiment
 
 REFERENCE_CHECK = "reference-check.md"   # the independent check's section, in its sweep folder
 ONSET_WINDOW = 20                       # generations: E2's onset is the first such window held
