@@ -1,14 +1,15 @@
 """The studies' verbs of `econet sweep` (registered in setup.cfg, econet_ros.sweep_verbs):
 ``transplant`` runs the transplant arm of the pre-registered experiment E2 from a source sweep,
-``experiments`` writes the page of the experiments E1-E4 and the independent check from the
-folders that hold them. Each imports its work only when run."""
+``screen`` stores E2's screen of random genomes, ``experiments`` writes the page of the
+experiments E1-E4 and the independent check from the folders that hold them. Each imports its
+work only when run."""
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
 from ..cli.sweep import Verb
-from ..errors import ResultsError
+from ..errors import ConfigError, ResultsError
 from ..files import ensure_writable
 
 
@@ -68,8 +69,8 @@ class Experiments(Verb):
                         "recognised by what it holds: sweep folders whose rule is an "
                         "experiment's (E1, E2's onset, E3), a folder made by econet sweep "
                         "transplant (E2-T), a study folder (E4, its claims), a folder holding "
-                        "reference-check.md (the independent check); E2's screen is computed "
-                        "(under a minute). Writes DIR/experiments.md and DIR/figures/. "
+                        "reference-check.md (the independent check), a folder made by econet "
+                        "sweep screen (E2-S). Writes DIR/experiments.md and DIR/figures/. "
                         "docs/preregistrations.md has the rules.")
         page.add_argument("folders", metavar="FOLDER", nargs="+", help="the experiments' folders")
         page.add_argument("--out", required=True, help="folder for experiments.md and figures/")
@@ -90,4 +91,34 @@ class Experiments(Verb):
         page = experiments_page([Path(f) for f in args.folders], Path(args.out), against,
                                 Path(args.published) if args.published else None)
         print(f"experiments: {page}")
+        return 0
+
+
+class Screen(Verb):
+    """econet sweep screen SPEC --out DIR."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        screen = verbs.add_parser(
+            name, help="E2's screen: random genomes of every cell, no evolution, stored",
+            description="For every cell and seed of SPEC (a sweep spec whose rule is e2-screen, "
+                        "e.g. examples/sweeps/e2-screen.toml) scores the random genomes of the "
+                        "run's first generation, no evolution, and writes DIR/screen.csv (per "
+                        "cell and seed: genomes, how many reach, how many of them hold) and "
+                        "DIR/screen.json (the spec), for econet sweep experiments (E2-S). "
+                        "About a minute for the registered screen.")
+        screen.add_argument("spec", metavar="SPEC", help="screen specification (TOML)")
+        screen.add_argument("--out", required=True, help="results folder")
+        screen.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from ..science.sweeps.spec import load_spec
+        from .rules import E2Screen
+        from .screen import run_screen
+        spec = load_spec(Path(args.spec))
+        if spec.rule.get("name") != E2Screen.name:
+            raise ConfigError(f"{args.spec} is not a screen spec (its rule must be "
+                              f"'{E2Screen.name}')")
+        ensure_writable(Path(args.out))
+        print(f"screen: {run_screen(spec, Path(args.out))}")
         return 0

@@ -154,3 +154,11 @@ class E3Modularity(Experiment):
         o = sweep.options
         return experiments.e3(sweep.spec, sweep.rows, experiments.Modularity(
             (o["modular"], "normal"), (o["scrambled"], "normal"), (o["three"], "three-layer")))
+
+
+class E2Screen(Rule):
+    """E2-S's screen spec (econet sweep screen, screen.py): LARGE and SMALL name the cells whose
+    random genomes' holding shares it sets against each other."""
+
+    name = "e2-screen"
+    cells = ("large", "small")

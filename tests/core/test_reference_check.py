@@ -12,7 +12,7 @@ import pytest
 import reference_check as check
 from econet_ros.config import Config
 from econet_ros.files import cut_table
-from econet_ros.studies import experiments, family
+from econet_ros.studies import family
 from reference_partings import CONTACT_EDGE
 from sweep_helpers import evolved_sweep
 
@@ -129,9 +129,6 @@ def test_the_section_goes_into_the_experiments_page(sweep, tmp_path, monkeypatch
     folder = tmp_path / "check"
     folder.mkdir()
     assert check.main([str(sweep), "--markdown", str(folder / family.REFERENCE_CHECK)]) == 0
-    monkeypatch.setattr(experiments, "screen_all", lambda: {
-        "2/2/4": np.array([1.0, 0.0]), "4/4/8": np.array([0.0]),
-        "three-layer 4": np.array([1.0]), "three-layer 8": np.array([0.0])})
     page = family.experiments_page([folder], tmp_path / "page").read_text()
     section = page.split("## The independent check\n")[1]
     assert page.count("\n## The independent check\n") == 1 and "\n## " not in section
