@@ -14,10 +14,9 @@ import numpy as np
 
 from ..science import holding
 from ..science.claims import RANGE_SHARE
-from ..science.stats import (Estimate, firth_logistic, holm, paired, share,
-                             share_difference)
+from ..science.stats import Estimate, firth_logistic, paired, share, share_difference
 from ..science.sweeps.plan import SweepSpec, values
-from ..science.verdicts import DECIDED, INCONCLUSIVE, MOST, Criterion, Row, above, decide
+from ..science.verdicts import MOST, Criterion, Row, above, decide, holm_family
 
 LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does not matter (H3b's)
 SHARE_GAP_MARGIN = 0.25   # E3-H: the claims' margin for "most runs", three runs in four
@@ -169,8 +168,9 @@ def e3(spec: SweepSpec, rows: list[dict], cells: Modularity) -> dict[str, Criter
 
 # -- the family -------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class Judged:
-    """A hypothesis's raw four-way verdict with its p-value, and after Holm over the family."""
+class Hypothesis:
+    """A hypothesis of the family judged: its raw four-way verdict with its p-value, and after
+    Holm over the family."""
 
     key: str
     criterion: Criterion
@@ -180,26 +180,23 @@ class Judged:
     adjusted: str
 
 
-def family(criteria: dict[str, Criterion]) -> list[Judged]:
+def family(criteria: dict[str, Criterion]) -> list[Hypothesis]:
     """Holm over the hypotheses given (the registered family is FAMILY; one not yet judged is
-    left out of the adjustment): the adjusted verdict is the raw one when its adjusted p-value
-    is below DECIDED, inconclusive otherwise."""
+    left out of the adjustment), as verdicts.holm_family judges any family."""
     unknown = set(criteria) - set(FAMILY)
     if unknown:
         raise ValueError(f"not in the registered family: {', '.join(sorted(unknown))}")
     keys = [k for k in FAMILY if k in criteria]
     decided = [decide([criteria[k]]) for k in keys]
-    adjusted = holm([p for _, p in decided])
-    return [Judged(k, criteria[k], v, p, a,
-                   v if np.isfinite(a) and a < DECIDED else INCONCLUSIVE)
-            for k, (v, p), a in zip(keys, decided, adjusted)]
+    return [Hypothesis(k, criteria[k], v, p, a, kept)
+            for k, (v, p), (a, kept) in zip(keys, decided, holm_family(decided))]
 
 
-def rows_of(judged: list[Judged]) -> list[Row]:
+def rows_of(judged: list[Hypothesis]) -> list[Row]:
     return [Row(j.key, j.criterion.text(four=True), j.verdict) for j in judged]
 
 
-def family_table(judged: list[Judged]) -> list[str]:
+def family_table(judged: list[Hypothesis]) -> list[str]:
     """The hypotheses as Markdown: measured, raw verdict and p, Holm-adjusted p and verdict."""
     def number(p: float) -> str:
         return f"{p:.3g}" if math.isfinite(p) else "n/a"

@@ -25,7 +25,8 @@ from ..science.stats import share
 from ..science.sweeps.outcomes import run_series, tidy_rows
 from ..science.sweeps.rules import Swept, rule_of
 from ..science.sweeps.spec import load_sweep
-from ..science.verdicts import ABSENT, FOUR_VERDICTS, INCONCLUSIVE, REPLICATES, REVERSED
+from ..science.verdicts import (ABSENT, FOUR_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
+                                REVERSED)
 from . import experiments, transplant
 from .figures import experiments_figure
 from .rules import Experiment
@@ -171,6 +172,7 @@ E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registe
     ABSENT: "the {term} moves holding by less than the margin",
     REVERSED: "at equal everything else, holding rises as {change}",
     INCONCLUSIVE: "the {term} coefficient's interval {allows}",
+    NOT_JUDGED: "the {term} coefficient could not be measured",
 }
 E1_MARGIN = 0.5       # log odds per doubling, as registered for every E1 coefficient
 
@@ -237,7 +239,8 @@ E3_SIDE_SENTENCES = {   # E3-H and E3-T in words, by verdict; read beside E3-M's
              ABSENT: "Modular and scrambled nets hold about equally often (within the margin).",
              REVERSED: "The scrambled net holds more often than the modular one.",
              INCONCLUSIVE: "Whether the modular net holds more often than the scrambled one "
-                           "stays inconclusive."},
+                           "stays inconclusive.",
+             NOT_JUDGED: "Whether the modular net holds more often could not be judged (n/a)."},
     "E3-T": {REPLICATES: "The modular net's late fitness is above the three-layer net's of its "
                          "width (4 hidden units).",
              ABSENT: "Against the three-layer net of its width (4 hidden units) the modular "
@@ -245,7 +248,9 @@ E3_SIDE_SENTENCES = {   # E3-H and E3-T in words, by verdict; read beside E3-M's
              REVERSED: "The three-layer net of its width (4 hidden units) does better than the "
                        "modular net.",
              INCONCLUSIVE: "Against the three-layer net of its width (4 hidden units) the "
-                           "modular net's late fitness stays inconclusive."},
+                           "modular net's late fitness stays inconclusive.",
+             NOT_JUDGED: "Against the three-layer net of its width the modular net could not "
+                         "be judged (n/a)."},
 }
 
 
@@ -261,7 +266,8 @@ def e3_sentences(verdicts: dict[str, str]) -> list[str]:
             REVERSED: "At equal weights and width, the scrambled net does better: the claim is "
                       "reversed.",
             INCONCLUSIVE: "Whether splitting the senses helps at equal weights and width stays "
-                          "inconclusive."}[m]
+                          "inconclusive.",
+            NOT_JUDGED: "Whether splitting the senses helps could not be judged (n/a)."}[m]
     return [said, *(E3_SIDE_SENTENCES[key][verdicts[key]] for key in E3_SIDE_SENTENCES
                     if key in verdicts)]
 
@@ -276,7 +282,7 @@ class Judgement:
     """The family judged once: every hypothesis after Holm, the criteria of each experiment
     sweep (by sweep name)."""
 
-    judged: list[experiments.Judged]
+    judged: list[experiments.Hypothesis]
     by_sweep: dict[str, dict]
 
     @property
