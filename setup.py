@@ -23,11 +23,6 @@ if os.path.isdir('launch'):
 # that bags are read and written without ROS (recording/messages.py looks there).
 MSG_PACKAGE = package_name + '.recording.msg'
 
-# The nodes' console scripts (`ros2 run econet_ros world_node`, ...) start through
-# econet_ros.cli.nodes, which says in one line what is missing where ROS 2 is not installed.
-NODES = ('world_node', 'controller_node', 'supervisor_node', 'recorder_node', 'viewer_node',
-         'graph_node')
-
 setup(
     name=package_name,
     version='0.1.0',
@@ -59,15 +54,5 @@ setup(
     description='ROS 2 and Python reimplementation of the econet infant-reaching model.',
     license='MIT',
     tests_require=['pytest'],
-    entry_points={
-        'console_scripts': ['econet = econet_ros.cli:main'] + [
-            f'{node} = econet_ros.cli.nodes:{node}' for node in NODES],
-        # Controllers by name (econet_ros.plugins.BUILTIN); other packages add their own here.
-        'econet_ros.controllers': [
-            'normal = econet_ros.controllers:FourLayerNetwork',
-            'three-layer = econet_ros.controllers:ThreeLayerNetwork',
-            'random = econet_ros.controllers:RandomMovement',
-            'reacher = econet_ros.reacher:HandWrittenReacher',
-        ],
-    },
+    # entry points (console scripts, controllers, sweep rules and verbs): setup.cfg
 )

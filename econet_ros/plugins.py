@@ -1,68 +1,101 @@
-"""Finding controllers by name, so that other packages can plug their own in.
+"""Finding plug-ins by name, so that other packages can plug their own in: controllers, the
+decision rules a sweep names (science/sweeps/rules.py) and verbs of `econet sweep`
+(cli/sweep.py), each kind in its entry-point group.
 
-A controller name is one of
-    * a name registered in the entry-point group ``econet_ros.controllers`` by any installed
-      package (this package registers the paper's ``normal``, ``three-layer`` and ``random``
-      controllers and the ``reacher`` there too), or
+A plug-in name is one of
+    * a name registered in the kind's entry-point group by any installed package (this
+      distribution registers its own in setup.cfg, [options.entry_points]: the paper's
+      ``normal``, ``three-layer`` and ``random`` controllers, the ``reacher``, and the rules and
+      verbs of the studies wing), or
     * ``module:Class``, naming a class on the Python path directly.
-Either way the class must subclass ``econet_ros.controllers.Controller`` and is constructed as
-``Class(n_envs, config)``. The command line, the evolution, the controller node and the
-supervisor all resolve names here (``make_controller``), and ``chosen_controller`` is the one
-rule for which controller a run evolves.
+Either way the class must subclass the kind's base class (a controller:
+``econet_ros.controllers.Controller``, constructed as ``Class(n_envs, config)``). The command
+line, the evolution, the controller node and the supervisor all resolve controller names here
+(``make_controller``), and ``chosen_controller`` is the one rule for which controller a run
+evolves.
 """
 from __future__ import annotations
 
+import configparser
 import importlib
 import inspect
+from dataclasses import dataclass
 from importlib.metadata import entry_points
+from pathlib import Path
 
 from .config import Config
 from .controllers import Controller
 from .errors import PluginError
 
-GROUP = "econet_ros.controllers"
 EXTERNAL = "external"     # the supervisor's controller:=external: a node it does not know
+# This distribution's registrations, read from the checkout when its metadata is not installed
+# (running straight from a source tree) or is older than the checkout.
+SETUP_CFG = Path(__file__).resolve().parent.parent / "setup.cfg"
 
-# Our own registrations, also listed in setup.py; used when the package's metadata is not
-# installed (running straight from a source tree).
-BUILTIN = {
-    "normal": "econet_ros.controllers:FourLayerNetwork",
-    "three-layer": "econet_ros.controllers:ThreeLayerNetwork",
-    "random": "econet_ros.controllers:RandomMovement",
-    "reacher": "econet_ros.reacher:HandWrittenReacher",
-}
+
+@dataclass(frozen=True)
+class Kind:
+    """A kind of plug-in: what it is called in errors, its entry-point group, its base class."""
+
+    what: str
+    group: str
+    base: type
+
+
+CONTROLLERS = Kind("controller", "econet_ros.controllers", Controller)
+GROUP = CONTROLLERS.group
+
+
+def declared(group: str, path: Path = SETUP_CFG) -> dict[str, str]:
+    """The names a group's entry points declare in setup.cfg ({} without the file)."""
+    parser = configparser.ConfigParser(interpolation=None)
+    parser.read(path, encoding="utf-8")
+    lines = parser.get("options.entry_points", group, fallback="").splitlines()
+    pairs = (line.split("=", 1) for line in lines if "=" in line)
+    return {name.strip(): target.strip() for name, target in pairs}
+
+
+def registered_in(kind: Kind) -> dict[str, str]:
+    """Every registered name of a kind and the ``module:Class`` it stands for."""
+    names = declared(kind.group)
+    names.update({ep.name: ep.value for ep in entry_points(group=kind.group)})
+    return names
+
+
+def find(kind: Kind, name: str) -> type:
+    """The class a name of the kind stands for (PluginError, one line, if there is none)."""
+    names = registered_in(kind)
+    target = names.get(name, name)
+    module_name, sep, attribute = target.partition(":")
+    if not sep or not module_name or not attribute:
+        raise PluginError(f"unknown {kind.what} '{name}': not a registered name "
+                          f"({', '.join(sorted(names))}) and not module:Class")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as error:
+        raise PluginError(f"{kind.what} '{name}': cannot import module '{module_name}' "
+                          f"({error})") from None
+    cls = getattr(module, attribute, None)
+    if cls is None:
+        raise PluginError(f"{kind.what} '{name}': module '{module_name}' has no "
+                          f"'{attribute}'")
+    if not (inspect.isclass(cls) and issubclass(cls, kind.base)):
+        raise PluginError(f"{kind.what} '{name}': {target} is not a subclass of "
+                          f"{kind.base.__module__}.{kind.base.__qualname__}")
+    if inspect.isabstract(cls):
+        missing = ", ".join(sorted(cls.__abstractmethods__))
+        raise PluginError(f"{kind.what} '{name}': {target} does not implement {missing}")
+    return cls
 
 
 def registered() -> dict[str, str]:
     """Every registered controller name and the ``module:Class`` it stands for."""
-    names = dict(BUILTIN)
-    names.update({ep.name: ep.value for ep in entry_points(group=GROUP)})
-    return names
+    return registered_in(CONTROLLERS)
 
 
 def resolve(name: str) -> type:
     """The Controller class a name stands for (PluginError if there is none)."""
-    target = registered().get(name, name)
-    module_name, sep, attribute = target.partition(":")
-    if not sep or not module_name or not attribute:
-        raise PluginError(f"unknown controller '{name}': not a registered name "
-                          f"({', '.join(sorted(registered()))}) and not module:Class")
-    try:
-        module = importlib.import_module(module_name)
-    except ImportError as error:
-        raise PluginError(f"controller '{name}': cannot import module '{module_name}' "
-                          f"({error})") from None
-    cls = getattr(module, attribute, None)
-    if cls is None:
-        raise PluginError(f"controller '{name}': module '{module_name}' has no "
-                          f"'{attribute}'")
-    if not (inspect.isclass(cls) and issubclass(cls, Controller)):
-        raise PluginError(f"controller '{name}': {target} is not a subclass of "
-                          "econet_ros.controllers.Controller")
-    if inspect.isabstract(cls):
-        missing = ", ".join(sorted(cls.__abstractmethods__))
-        raise PluginError(f"controller '{name}': {target} does not implement {missing}")
-    return cls
+    return find(CONTROLLERS, name)
 
 
 def make_controller(name: str, n_envs: int, config: Config) -> Controller:

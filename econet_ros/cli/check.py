@@ -39,7 +39,7 @@ def add_parser(commands) -> None:
     check.add_argument("--processes", type=positive, default=1,
                        help="worker processes (default: 1)")
     check.add_argument("--end-to-end", metavar="SEEDS", type=seeds,
-                       help="also evolve these seeds (e.g. 9501-9503 or 9501,9503) through the "
+                       help="also evolve these seeds (e.g. 11-13 or 11,13) through the "
                             "reference at the default settings, the outputs rewritten after "
                             "every generation")
     check.add_argument("--generations", type=positive, default=20,
@@ -50,7 +50,7 @@ def add_parser(commands) -> None:
 
 
 def seeds(text: str) -> list[int]:
-    """'9501-9503' or '9501,9502,9503'."""
+    """'11-13' or '11,12,13'."""
     try:
         if "-" in text:
             first, last = map(int, text.split("-"))

@@ -14,8 +14,8 @@ def add_parser(commands) -> None:
     parser = commands.add_parser(
         "compare", help="paired statistics between two sets of runs (studies, sweep cells)",
         description=__doc__ + " A and B are folders of run folders, e.g. results/study/normal "
-        "or results/sweep-a/four-3-3-9+mutation_mode=weights/normal; a study folder needs "
-        "--condition. Runs pair by name (run-NN with run-NN, seed-NNN with seed-NNN); sets "
+        "or results/sweep-a/CELL/normal (a sweep cell's runs of one condition); a study folder "
+        "needs --condition. Runs pair by name (run-NN with run-NN, seed-NNN with seed-NNN); sets "
         "named differently are compared unpaired.")
     parser.add_argument("a", metavar="A", help="first set of runs")
     parser.add_argument("b", metavar="B", help="second set of runs")

@@ -1,16 +1,17 @@
 """``econet sweep run SPEC --out DIR`` runs a sweep over the paper's open choices on Ray (local
 cores by default, or a cluster with --address); ``econet sweep report DIR`` writes its tidy table,
-paired comparisons, figures and summary; ``econet sweep transplant SOURCE --out DIR`` runs the
-transplant arm of the pre-registered experiment E2 from a source sweep. The format:
+paired comparisons, figures and summary; other packages add verbs of their own (plug-ins in the
+entry-point group econet_ros.sweep_verbs, e.g. the studies wing's). The format:
 docs/sweeps.md."""
 from __future__ import annotations
 
 import argparse
+from abc import ABC, abstractmethod
 from pathlib import Path
 
 from ..devices import require_device
-from ..errors import ResultsError
 from ..files import ensure_writable
+from ..plugins import Kind, find, registered_in
 from ..science.sweeps.spec import load_spec
 from .options import Parser, add_device_option, positive
 
@@ -44,48 +45,20 @@ def add_parser(commands) -> None:
                     "of the decision rule the spec names (its rule key), if any.")
     report.add_argument("folder", metavar="DIR", help="a folder made by econet sweep run")
     report.set_defaults(handler=_report)
-    _add_transplant(verbs)
-    _add_experiments(verbs)
+    for name in sorted(registered_in(VERBS)):
+        find(VERBS, name)().add_parser(verbs, name)
 
 
-def _add_transplant(verbs) -> None:
-    moved = verbs.add_parser(
-        "transplant", help="larger nets started from the holding champions of a source sweep",
-        description="For every finished run of SOURCE (a sweep of small four-layer nets under "
-                    "evolution.genome_code = sign-magnitude, whose grid holds an exact zero) "
-                    "that holds late, its champion is laid out in a larger net with every added "
-                    "weight exactly zero (checked: it scores exactly what the champion does), "
-                    "and a run of the larger net evolves from copies of it on the source's seed, "
-                    "beside a control run from random genomes on the same seed. Writes "
-                    "DIR/transplanted/, DIR/control/ and DIR/transplant.json (which runs kept "
-                    "holding); run again to resume. The pre-registered experiment E2 "
-                    "(docs/preregistrations.md).")
-    moved.add_argument("source", metavar="SOURCE", help="a folder made by econet sweep run")
-    moved.add_argument("--out", required=True, help="results folder")
-    moved.add_argument("--into", type=units, default=(4, 4, 8), metavar="V/P/I",
-                       help="the larger net's visual/proprioceptive/intermodal hidden units, "
-                            "each at least the source's (default: 4/4/8)")
-    moved.add_argument("--quiet", action="store_true", help="no progress lines")
-    moved.set_defaults(handler=_transplant)
+class Verb(ABC):
+    """A verb of `econet sweep` from another package, registered by name in the entry-point
+    group econet_ros.sweep_verbs: it adds its parser under that name, with its handler."""
+
+    @abstractmethod
+    def add_parser(self, verbs, name: str) -> None:
+        """Add the verb's parser to `econet sweep`'s sub-commands, setting its handler."""
 
 
-def _add_experiments(verbs) -> None:
-    page = verbs.add_parser(
-        "experiments", help="the page of the pre-registered experiments E1-E4 and the check",
-        description="Judges the eleven hypotheses of the pre-registered experiments together "
-                    "(Holm over the family) from the folders given, each recognised by what it "
-                    "holds: sweep folders whose rule is an experiment's (E1, E2's onset, E3), "
-                    "a folder made by econet sweep transplant (E2-T), a study folder (E4, its "
-                    "claims), a folder holding reference-check.md (the independent check); E2's "
-                    "screen is computed (under a minute). Writes DIR/experiments.md and "
-                    "DIR/figures/. docs/preregistrations.md has the rules.")
-    page.add_argument("folders", metavar="FOLDER", nargs="+", help="the experiments' folders")
-    page.add_argument("--out", required=True, help="folder for experiments.md and figures/")
-    page.add_argument("--against", default=None, metavar="CLAIMS_CSV",
-                      help="an earlier claims.csv that E4's claims are compared with")
-    page.add_argument("--published", default=None, metavar="DIR",
-                      help="where the sweeps' summaries are published (linked from the page)")
-    page.set_defaults(handler=_experiments)
+VERBS = Kind("sweep verb", "econet_ros.sweep_verbs", Verb)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -107,37 +80,4 @@ def _report(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"note: {note}")
     print(f"summary: {summary}")
-    return 0
-
-
-def units(text: str) -> tuple[int, int, int]:
-    """V/P/I hidden units, e.g. 4/4/8."""
-    parts = text.split("/")
-    if len(parts) != 3 or not all(p.isdigit() and int(p) > 0 for p in parts):
-        raise argparse.ArgumentTypeError(f"expected V/P/I positive whole numbers, e.g. 4/4/8, "
-                                         f"got {text!r}")
-    return tuple(int(p) for p in parts)
-
-
-def _transplant(args: argparse.Namespace) -> int:
-    from ..science.sweeps.transplant import kept_flags, run_transplants
-    ensure_writable(Path(args.out))
-    record = run_transplants(Path(args.source), Path(args.out), args.into,
-                             on_run=None if args.quiet else lambda what: print(f"done: {what}",
-                                                                               flush=True))
-    kept = kept_flags(record)
-    print(f"transplant: {len(kept)} holding source run(s); {int(kept.sum())} still hold late in "
-          f"{'/'.join(map(str, args.into))} ({Path(args.out) / 'transplant.json'})")
-    return 0
-
-
-def _experiments(args: argparse.Namespace) -> int:
-    from ..science.sweeps.family import experiments_page
-    ensure_writable(Path(args.out))
-    against = Path(args.against) if args.against else None
-    if against is not None and not against.is_file():
-        raise ResultsError(f"--against {against}: no such claims table")
-    page = experiments_page([Path(f) for f in args.folders], Path(args.out), against,
-                            Path(args.published) if args.published else None)
-    print(f"experiments: {page}")
     return 0

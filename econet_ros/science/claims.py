@@ -32,9 +32,9 @@ from . import holding
 from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
-from .stats import Paired, bounded, estimate, holm, share
-from .verdicts import (DECIDED, EARLY_AHEAD, INCONCLUSIVE, MOST, NOT_JUDGED, REPLICATES,
-                       Criterion, above, below, decide, most_runs, sign_count, within)
+from .stats import Paired, bounded, estimate, share
+from .verdicts import (EARLY_AHEAD, MOST, REPLICATES, Criterion, above, after_holm, below,
+                       decide, holm_family, most_runs, sign_count, within)
 
 SHUFFLES = 20          # time-shuffled nulls per claim
 LEVEL_LIKE = 0.5       # a rule replicating on this share of its shuffled nulls or more cannot
@@ -161,11 +161,8 @@ class ClaimResult(NamedTuple):
 
     @property
     def adjusted(self) -> str:
-        """The verdict after Holm's correction over the family: kept when its adjusted p-value
-        is below 0.05, inconclusive otherwise (n/a stays)."""
-        if self.verdict in (INCONCLUSIVE, NOT_JUDGED):
-            return self.verdict
-        return self.verdict if self.p_holm < DECIDED else INCONCLUSIVE
+        """The verdict after Holm's correction over the family (verdicts.after_holm)."""
+        return after_holm(self.verdict, self.p_holm)
 
     @property
     def flagged(self) -> bool:
@@ -192,9 +189,9 @@ def evaluate(group, lesion: list[dict], windows: Windows, nulls: bool = False
     one's place and on time-shuffled data."""
     evidence = Evidence(group, lesion, windows)
     judged = [judge(claim, evidence) for claim in CLAIMS]
-    adjusted = holm([j.p for j in judged])
-    results = [ClaimResult(claim, j, p_holm=float(p))
-               for claim, j, p in zip(CLAIMS, judged, adjusted)]
+    adjusted = holm_family([(j.verdict, j.p) for j in judged])
+    results = [ClaimResult(claim, j, p_holm=p)
+               for claim, j, (p, _) in zip(CLAIMS, judged, adjusted)]
     if not nulls:
         return results
     return [r._replace(nulls=null_checks(r.claim, evidence)) for r in results]

@@ -9,7 +9,7 @@ trials whose courses part at a boundary the reference explains (reference/partin
 EXPLAINED_SHARE of all trials), and every champion's hold/brush class agrees; FAIL otherwise.
 Partings nothing explains but with equal fitness are listed, not failed. End to end, the
 champions' genomes must be the engine's in every generation. The markdown is the section the
-experiments' page includes (econet_ros/science/sweeps/family.py, REFERENCE_CHECK).
+experiments' page includes (econet_ros/studies/family.py, REFERENCE_CHECK).
 """
 from __future__ import annotations
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stats import EXACT_SHARE, Estimate, Paired, fewest_runs, runs_needed, tail
+from .stats import EXACT_SHARE, Estimate, Paired, fewest_runs, holm, runs_needed, tail
 
 REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED = ("replicates", "contradicted",
                                                        "inconclusive", "n/a")
@@ -282,3 +282,18 @@ def decide(criteria: Sequence[Criterion], needed: int | None = None) -> tuple[st
     if NOT_JUDGED in verdicts:
         return NOT_JUDGED, math.nan
     return INCONCLUSIVE, min(p.values())
+
+
+def after_holm(verdict: str, adjusted_p: float) -> str:
+    """A verdict after Holm's correction over its family: kept when its adjusted p-value is
+    below DECIDED, inconclusive otherwise (inconclusive and n/a stay as they are)."""
+    if verdict in (INCONCLUSIVE, NOT_JUDGED):
+        return verdict
+    return verdict if adjusted_p < DECIDED else INCONCLUSIVE
+
+
+def holm_family(decided: Sequence[tuple[str, float]]) -> list[tuple[float, str]]:
+    """Holm over a family of (verdict, p-value) pairs: each one's adjusted p-value and the
+    verdict it keeps (after_holm); the claims table and the experiments' family both judge so."""
+    adjusted = holm([p for _, p in decided])
+    return [(float(a), after_holm(v, a)) for (v, _), a in zip(decided, adjusted)]

@@ -1,7 +1,10 @@
 """The core (everything outside econet_ros/nodes) must work on machines without ROS: importing
 it, and running its command line, never loads rclpy or any ROS message package. And the layout's
-rules: nothing in nodes/ imports the command line, the reference model stays independent of the
-engine it checks, and the kernel cache key lists every module with compiled kernels."""
+rules: nothing in nodes/ imports the command line, nothing outside the studies wing imports the
+wing (the library finds its rules and verbs by name, plugins.py), the library names no study,
+seed or cell of ours, the reference model stays independent of the engine it checks, CPU users
+never load the CUDA back-end, and the kernel cache key lists every module with compiled
+kernels."""
 import pkgutil
 import re
 import subprocess
@@ -83,3 +86,40 @@ def test_kernel_cache_key_lists_every_module_with_kernels():
     with_kernels = {str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")
                     if "@numba.njit" in p.read_text(encoding="utf-8")}
     assert with_kernels == set(econet_ros.KERNEL_MODULES)
+
+
+WING = PACKAGE / "studies"
+IMPORTS_WING = re.compile(r"^\s*(?:from\s+(?:econet_ros\.studies|\.+studies)\b"
+                          r"|import\s+econet_ros\.studies"
+                          r"|from\s+(?:econet_ros|\.+)\s+import\s+[^\n]*\bstudies\b)", re.M)
+
+
+def library_files() -> list[Path]:
+    return [p for p in PACKAGE.rglob("*.py") if WING not in p.parents]
+
+
+def test_nothing_outside_the_studies_wing_imports_it():
+    assert (WING / "__init__.py").exists()
+    for path in library_files():
+        assert not IMPORTS_WING.search(path.read_text(encoding="utf-8")), \
+            f"{path} imports the studies wing"
+
+
+def test_the_wing_import_pattern_catches_every_spelling():
+    for line in ("from econet_ros.studies import rules", "from ...studies.family import x",
+                 "import econet_ros.studies.rules", "from .. import studies",
+                 "from econet_ros import config, studies"):
+        assert IMPORTS_WING.search(line), line
+    assert not IMPORTS_WING.search("from ..science import study")
+
+
+# our studies' seeds (9201-9210 the screen's, 9501- the check's), rule names and cells: they
+# belong in the specs (examples/sweeps) and the wing, never in the library's code
+STUDY_WORDS = re.compile(r"\b9[2-5]\d\d\b|['\"](?:e[1-4]-[a-z]+|confirmatory|regime|load-map|"
+                         r"readings)['\"]|four-\d-\d-\d|three-\d+\b")
+
+
+def test_the_library_names_no_study_seed_or_cell():
+    for path in library_files():
+        found = STUDY_WORDS.findall(path.read_text(encoding="utf-8"))
+        assert not found, f"{path} names {found}"

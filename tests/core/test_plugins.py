@@ -1,4 +1,5 @@
-"""Controllers by name: the installed entry points, the hand-written reacher, a controller from a
+"""Plug-ins by name, controllers above all: setup.cfg's registrations as installed and as read from
+a source tree, the hand-written reacher, a controller from a
 package outside econet_ros (tests/plugin_example) through the command line, and one-line errors
 for names that do not resolve (the same through the nodes: tests/nodes/test_plugin_nodes.py)."""
 import os
@@ -11,7 +12,7 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.config import Config
-from econet_ros.plugins import BUILTIN, GROUP
+from econet_ros.plugins import GROUP, SETUP_CFG, declared
 from econet_ros.trials import run_trials
 from econet_ros.world import World, sample_setups
 
@@ -26,10 +27,20 @@ def with_plugin_env() -> dict:
     return env
 
 
-def test_installed_metadata_registers_exactly_the_builtins():
-    eps = {ep.name: ep.value for ep in distribution("econet_ros").entry_points
-           if ep.group == GROUP}
-    assert eps == BUILTIN
+def test_installed_metadata_registers_what_setup_cfg_declares():
+    """Every group the installed metadata has (an install older than the checkout may lack a
+    newer group: scripts/setup brings it up to date) holds exactly setup.cfg's names."""
+    installed = {}
+    for ep in distribution("econet_ros").entry_points:
+        installed.setdefault(ep.group, {})[ep.name] = ep.value
+    assert GROUP in installed
+    assert all(names == declared(group) for group, names in installed.items())
+
+
+def test_setup_cfg_declares_the_controllers_and_the_command(tmp_path):
+    assert declared(GROUP)["normal"] == "econet_ros.controllers:FourLayerNetwork"
+    assert declared("console_scripts")["econet"] == "econet_ros.cli:main"
+    assert declared(GROUP, tmp_path / "missing.cfg") == {} and SETUP_CFG.exists()
 
 
 def test_reacher_reaches_the_object_in_most_trials():

@@ -15,7 +15,7 @@ from econet_ros.config import Config
 from econet_ros.files import cut_table
 from econet_ros.reference.partings import CONTACT_EDGE
 from econet_ros.science import reference_check as check
-from econet_ros.science.sweeps import experiments, family
+from econet_ros.studies import family
 from sweep_helpers import evolved_sweep
 
 TINY = '''
@@ -133,14 +133,11 @@ def test_end_to_end_runs_pass_only_when_whole_and_alike():
         "end to end, seed 2: 0 of 3 generations run"]
 
 
-def test_the_section_goes_into_the_experiments_page(sweep, tmp_path, monkeypatch):
+def test_the_section_goes_into_the_experiments_page(sweep, tmp_path):
     folder = tmp_path / "check"
     folder.mkdir()
     assert main(["check", str(sweep), "--markdown", str(folder / family.REFERENCE_CHECK),
                  "--quiet"]) == 0
-    monkeypatch.setattr(experiments, "screen_all", lambda: {
-        "2/2/4": np.array([1.0, 0.0]), "4/4/8": np.array([0.0]),
-        "three-layer 4": np.array([1.0]), "three-layer 8": np.array([0.0])})
     page = family.experiments_page([folder], tmp_path / "page").read_text()
     section = page.split("## The independent check\n")[1]
     assert page.count("\n## The independent check\n") == 1 and "\n## " not in section

@@ -8,7 +8,7 @@ from scipy.stats import t as t_quantile
 from econet_ros.science.stats import EXACT_SHARE, Estimate, Paired, fewest_runs, paired, share
 from econet_ros.science.verdicts import (ABSENT, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED,
                                          REPLICATES, REVERSED, above, below, combine, decide,
-                                         most_runs, sign_count, within)
+                                         holm_family, most_runs, sign_count, within)
 
 
 def interval(lo, hi, n=10):
@@ -138,3 +138,13 @@ def test_a_claim_decides_by_its_criteria_with_the_p_value_of_its_test():
     assert decide([good, back, back, weak], needed=3)[0] == REVERSED     # 2 reversed of 1 spare
     assert decide([good, good, none, weak], needed=3) == (REPLICATES, weak.p(REPLICATES))
     assert decide([]) == (NOT_JUDGED, pytest.approx(math.nan, nan_ok=True))
+
+
+def test_holm_over_a_family_keeps_a_verdict_only_below_the_level_and_leaves_n_a_alone():
+    family = holm_family([(REPLICATES, 0.001), (REVERSED, 0.03), (ABSENT, 0.02),
+                          (NOT_JUDGED, math.nan), (INCONCLUSIVE, 0.5)])
+    adjusted = [p for p, _ in family]
+    assert [v for _, v in family] == [REPLICATES, INCONCLUSIVE, INCONCLUSIVE, NOT_JUDGED,
+                                      INCONCLUSIVE]
+    assert adjusted[0] == pytest.approx(0.004) and math.isnan(adjusted[3])
+    assert all(a >= p for a, p in zip(adjusted, (0.001, 0.03, 0.02)))

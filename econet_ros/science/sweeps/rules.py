@@ -1,27 +1,23 @@
-"""The decision rules a sweep can name, by name (RULES): `rule = "NAME"` in its TOML, or a [rule]
+"""The decision rules a sweep can name, plug-ins by name (plugins.py, entry-point group
+econet_ros.rules, or module:Class): `rule = "NAME"` in its TOML, or a [rule]
 table with `name = "NAME"` and the cells (and companion sweep) the rule needs, and, for a rule
 committed before its sweep ran, `registered = "<commit>"`: the commit that registered it. A
 rule says what its sweep's summary shows (markdown, figures), what it makes of the defaults,
 and what it adds to the study report's architecture section; the report asks the rule and
-never the sweep's name. The rules' arithmetic lives in regime.py (the decision rule of "Finding
-the paper's regime"), confirm.py (the pre-registered rule: H1-H3 and the exploratory
-readings) and experiments.py (the pre-registered experiments E1-E3)."""
+never the sweep's name. This project's own rules live in its studies wing
+(econet_ros/studies/rules.py)."""
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 from ...errors import ConfigError
+from ...plugins import Kind, find, registered_in
 from ...provenance import registration
-from . import confirm, experiments, regime
-from .figures import LOAD_MAP, load_map_figure
 from .plan import SweepSpec
 
 REGISTERED = "registered"    # a [rule] table's option: the commit that pre-registered the rule
-PREREGISTERED = "## The pre-registered rule (docs/preregistrations.md, \"The confirmatory study\")\n"
-EXPERIMENTS = ("## The pre-registered rule (docs/preregistrations.md, \"Experiments E1-E4 and an "
-               "independent check\")\n")
 
 
 @dataclass(frozen=True)
@@ -52,6 +48,7 @@ class Rule:
     the same study report."""
 
     name = ""
+    precedence = 0     # of the rules a study report's sweeps name, the highest chooses defaults
     cells: tuple[str, ...] = ()
     pairs: tuple[str, ...] = ()
     sweeps: tuple[str, ...] = ()
@@ -94,171 +91,31 @@ class Rule:
         return []
 
 
-class Regime(Rule):
-    """The decision rule of "Finding the paper's regime": F1-F4 and B1-B4 of every setting (an
-    F - T comparison with an F - R one of the same four-layer cell)."""
-
-    name = "regime"
-
-    def markdown(self, sweep: Swept) -> list[str]:
-        return regime.regime_markdown(sweep.spec, sweep.rows)
-
-    def defaults(self, sweeps: list[Swept]) -> list[str]:
-        judged = [v for s in sweeps for v in regime.verdicts(s.spec, s.rows)]
-        return regime.defaults_markdown(judged) if judged else []
-
-
-class Confirmatory(Rule):
-    """H1 and H2 on the networks FOUR (F), PAPER (T8) and MATCHED (T4), with the regime rule's
-    table beside them; H1 decides the defaults; the study report's architecture section, with
-    H3 from the sweep MAP when the report is given it too."""
-
-    name = "confirmatory"
-    cells = ("four", "paper", "matched")
-    sweeps = ("map",)
-
-    def networks(self, sweep: Swept) -> confirm.Networks:
-        return confirm.Networks.named(*(sweep.options[key] for key in self.cells))
-
-    def markdown(self, sweep: Swept) -> list[str]:
-        return [PREREGISTERED, *confirm.confirmatory(sweep.spec, sweep.rows, self.networks(sweep)),
-                *regime.regime_markdown(sweep.spec, sweep.rows)]
-
-    def defaults(self, sweeps: list[Swept]) -> list[str]:
-        if not sweeps:
-            return []
-        s = sweeps[0]
-        verdict = confirm.decide(s.spec, s.rows, self.networks(s))
-        return ["### Choosing the defaults\n", confirm.defaults_sentence(verdict) + "\n"]
-
-    def architecture(self, sweep: Swept, others: list[Swept]) -> list[str]:
-        found = next((s for s in others if s.spec.name == sweep.options.get("map")), None)
-        mapped, figure = None, ""
-        if found is not None:
-            mapped = (found.spec, found.rows, LoadMap.equal_loads(found))
-            figure = os.path.join(found.published, "figures", LOAD_MAP)
-        return confirm.architecture(sweep.spec, sweep.rows, self.networks(sweep), mapped, figure)
-
-
-class LoadMap(Rule):
-    """H3 on the map of mutational load: cells named SIZE-L<load> or SIZE-p<rate in %>; H3d's
-    pairs of equal load EQUAL_LOW and EQUAL_HIGH; the map figure."""
-
-    name = "load-map"
-    pairs = ("equal_low", "equal_high")
-
-    @staticmethod
-    def equal_loads(sweep: Swept) -> confirm.EqualLoads:
-        return confirm.EqualLoads(tuple(sweep.options["equal_low"]),
-                                  tuple(sweep.options["equal_high"]))
-
-    def markdown(self, sweep: Swept) -> list[str]:
-        return [PREREGISTERED, *confirm.load_map(sweep.spec, sweep.rows, self.equal_loads(sweep))]
-
-    def figures(self, sweep: Swept, folder: Path) -> list[Path]:
-        runs = confirm.map_runs(sweep.spec, sweep.rows)
-        return [load_map_figure(confirm.map_cells(runs), folder)]
-
-
-class Readings(Rule):
-    """The exploratory readings: each [[compare]] entry, a reading's cell against its size's
-    default-reading cell (no verdicts)."""
-
-    name = "readings"
-
-    def markdown(self, sweep: Swept) -> list[str]:
-        return [PREREGISTERED, *confirm.readings(sweep.spec, sweep.rows)]
-
-
-class Experiment(Rule):
-    """A rule of the pre-registered experiments: its hypotheses as criteria (experiments.py),
-    shown with their raw four-way verdicts, Holm-adjusted within the sweep; the registered
-    correction over the whole family is family_markdown, which a later report is to call."""
-
-    def criteria(self, sweep: Swept) -> dict:
-        raise NotImplementedError
-
-    def markdown(self, sweep: Swept) -> list[str]:
-        return [EXPERIMENTS, *experiments.family_table(experiments.family(self.criteria(sweep))),
-                "\nHolm-adjusted here over this sweep's hypotheses only; the registered family "
-                "is all eleven of E1-E3, judged together once every experiment has run.\n"]
-
-
-class E1Width(Experiment):
-    """E1-N, E1-W, E1-A: a model of holding on log2 weights, log2 width and three layers."""
-
-    name = "e1-width"
-
-    def criteria(self, sweep: Swept) -> dict:
-        return experiments.e1_width(sweep.spec, sweep.rows)
-
-
-class E1Range(Experiment):
-    """E1-S: holding against the weight range (saturation)."""
-
-    name = "e1-range"
-
-    def criteria(self, sweep: Swept) -> dict:
-        return experiments.e1_range(sweep.spec, sweep.rows)
-
-
-class E2Onset(Experiment):
-    """E2-O: the share of the LARGE cell's runs that hold late in longer runs."""
-
-    name = "e2-onset"
-    key = "E2-O"
-    cells = ("large",)
-
-    def criteria(self, sweep: Swept) -> dict:
-        return experiments.onset(sweep.spec, sweep.rows, sweep.options["large"], self.key)
-
-
-class E2Population(E2Onset):
-    """E2-P: the same in a larger population."""
-
-    name = "e2-population"
-    key = "E2-P"
-
-
-class E3Modularity(Experiment):
-    """E3-M, E3-H, E3-T: MODULAR 2/2/4 against SCRAMBLED 2/2/4 and THREE-layer 4."""
-
-    name = "e3-modularity"
-    cells = ("modular", "scrambled", "three")
-
-    def criteria(self, sweep: Swept) -> dict:
-        o = sweep.options
-        return experiments.e3(sweep.spec, sweep.rows, experiments.Modularity(
-            (o["modular"], "normal"), (o["scrambled"], "normal"), (o["three"], "three-layer")))
-
-
-def family_markdown(sweeps: list[Swept], extra: dict | None = None) -> list[str]:
-    """The registered family of E1-E3 over the sweeps that name an experiment's rule, with
-    EXTRA criteria judged outside sweeps (E2's screen and transplant), Holm over all of them."""
-    criteria = dict(extra or {})
-    for sweep in sweeps:
-        rule = rule_of(sweep.spec)
-        if isinstance(rule, Experiment):
-            criteria.update(rule.criteria(sweep))
-    return experiments.family_table(experiments.family(criteria)) if criteria else []
-
-
 NO_RULE = Rule()
-# by precedence: the first rule with something to say chooses the defaults (the pre-registered
-# confirmatory rule supersedes the earlier regime rule)
-RULES: dict[str, Rule] = {rule.name: rule for rule in (
-    Confirmatory(), Regime(), LoadMap(), Readings(), E1Width(), E1Range(), E2Onset(),
-    E2Population(), E3Modularity())}
+RULES = Kind("rule", "econet_ros.rules", Rule)
+
+
+def known_rules() -> list[str]:
+    """The registered rule names."""
+    return sorted(registered_in(RULES))
+
+
+@cache
+def named_rule(name: str) -> Rule:
+    """The rule a name stands for: a registered name or module:Class (PluginError if none)."""
+    return find(RULES, name)()
 
 
 def rule_of(spec: SweepSpec) -> Rule:
     """The rule a sweep names; NO_RULE for a sweep without one."""
-    return RULES[spec.rule["name"]] if spec.rule else NO_RULE
+    return named_rule(spec.rule["name"]) if spec.rule else NO_RULE
 
 
 def choose_defaults(sweeps: list[Swept]) -> list[str]:
-    """The choice of defaults by the highest rule that any of the sweeps names."""
-    for rule in RULES.values():
+    """The choice of defaults by the rule of highest precedence among those the sweeps name
+    that has something to say (a later rule may supersede an earlier one)."""
+    named = sorted(dict.fromkeys(rule_of(s.spec) for s in sweeps), key=lambda r: -r.precedence)
+    for rule in named:
         lines = rule.defaults([s for s in sweeps if rule_of(s.spec) is rule])
         if lines:
             return lines

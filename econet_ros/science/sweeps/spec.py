@@ -7,7 +7,7 @@ A sweep specification is a TOML file (read with the standard library's tomllib):
     seeds = [1, 2]                       # or {first = 1, count = 10}
     conditions = ["normal", "three-layer"]
     behaviour = true                     # also record behaviour.csv (Figures 4-9 measures)
-    rule = "regime"                      # the decision rule its report applies (rules.py)
+    rule = "NAME"                        # the decision rule its report applies (rules.py)
 
     [settings]                           # changes every cell makes (dotted config keys)
     "evolution.population" = 20
@@ -24,8 +24,8 @@ A sweep specification is a TOML file (read with the standard library's tomllib):
     b = {condition = "three-layer"}
 
 A rule that needs named cells (or a companion sweep) takes them in a [rule] table instead of
-the rule = "NAME" line, e.g. name = "confirmatory" and four = "four-2-2-4" (each rule's options:
-rules.py); a pre-registered rule names the commit that registered it, registered = "<commit>",
+the rule = "NAME" line, e.g. name = "NAME" and large = "CELL" (each rule's options: its
+class); a pre-registered rule names the commit that registered it, registered = "<commit>",
 and the report checks that it precedes every run's commit. Without a rule the report shows the
 general tables only (cells, outcomes, comparisons, holding) and the sweep adds nothing to a
 study report's choice of defaults.
@@ -48,7 +48,7 @@ from ...errors import ConfigError, ResultsError
 from ...provenance import COMMIT
 from ...runs import RunData
 from .plan import FORMAT, Cell, Run, SweepSpec
-from .rules import REGISTERED, RULES
+from .rules import REGISTERED, known_rules, named_rule
 
 RESERVED = ("evolution.condition", "evolution.generations")
 TOP_KEYS = {"name", "description", "generations", "seeds", "conditions", "behaviour",
@@ -97,7 +97,7 @@ def _spec_from_toml(data: dict, default_name: str) -> SweepSpec:
                      _rule(data.get("rule")))
     _check_comparisons(spec)
     if spec.rule:
-        RULES[spec.rule["name"]].check(spec.rule, {c.name for c in spec.cells})
+        named_rule(spec.rule["name"]).check(spec.rule, {c.name for c in spec.cells})
     return spec
 
 
@@ -119,9 +119,9 @@ def _rule(value: Any) -> dict:
         return {}
     choice = {"name": value} if isinstance(value, str) else value
     if not isinstance(choice, dict) or not isinstance(choice.get("name"), str) \
-            or choice["name"] not in RULES:
-        raise ConfigError(f"rule must be one of {', '.join(RULES)} (or a [rule] table with "
-                          f"name = one of them), got {value!r}")
+            or not (choice["name"] in known_rules() or ":" in choice["name"]):
+        raise ConfigError(f"rule must be one of {', '.join(known_rules())} or module:Class (or a "
+                          f"[rule] table with name = one of them), got {value!r}")
     registered = choice.get(REGISTERED)
     if registered is not None and not (isinstance(registered, str)
                                        and COMMIT.fullmatch(registered)):

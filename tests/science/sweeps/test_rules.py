@@ -1,19 +1,17 @@
 """A sweep names its decision rule in its TOML: the rule is checked when the spec is read, kept in
-the sweep folder, and the reports ask the rule, never the sweep's name; a pre-registered rule
-names the commit that registered it, which the report checks against the runs' commits."""
+the sweep folder, and the reports ask the rule, never the sweep's name; a rule is a plug-in, by
+a registered name or module:Class. (How our studies' rules choose defaults and check their
+registration: tests/studies/test_confirm.py.)"""
 import json
-import math
 from pathlib import Path
 
 import pytest
 
-from econet_ros.errors import ConfigError, ResultsError
-from econet_ros.science.sweeps.outcomes import OUTCOMES, WINDOWS
+from econet_ros.errors import ConfigError, PluginError, ResultsError
 from econet_ros.science.sweeps.plan import SweepSpec
-from econet_ros.science.sweeps.rules import NO_RULE, RULES, Swept, choose_defaults, rule_of
+from econet_ros.science.sweeps.rules import (NO_RULE, Rule, Swept, choose_defaults, known_rules,
+                                             named_rule, rule_of)
 from econet_ros.science.sweeps.spec import load_spec, load_sweep, prepare_folder
-
-from test_confirm import confirm_rows
 
 SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
 # the commit that wrote the confirmatory study's and the map's pre-registration into the docs
@@ -24,12 +22,6 @@ conditions = ["normal"]
 [cells.T]
 conditions = ["three-layer"]
 """
-
-
-def confirmed_rows() -> list[dict]:
-    """The confirmatory sweep's hand-made rows (test_confirm), with every other outcome NaN."""
-    unmeasured = {f"{o.name}_{w}": math.nan for o in OUTCOMES for w in WINDOWS}
-    return [{**unmeasured, "weights": 64, **row} for row in confirm_rows()]
 
 
 def spec_from(tmp_path: Path, text: str) -> SweepSpec:
@@ -48,7 +40,7 @@ def test_an_unknown_rule_is_refused_in_one_line_naming_the_known_ones(tmp_path):
     with pytest.raises(ConfigError) as error:
         spec_from(tmp_path, 'rule = "regim"\n' + CELLS)
     message = str(error.value)
-    assert "\n" not in message and all(name in message for name in RULES)
+    assert "\n" not in message and all(name in message for name in known_rules())
 
 
 @pytest.mark.parametrize("table, wrong", [
@@ -64,10 +56,37 @@ def test_a_rule_table_must_name_the_cells_its_rule_needs(tmp_path, table, wrong)
         spec_from(tmp_path, CELLS + "[rule]\n" + table + "\n")
 
 
+class OwnRule(Rule):
+    """A user's own rule, named by module:Class in a spec."""
+
+    cells = ("mine",)
+
+    def markdown(self, sweep: Swept) -> list[str]:
+        return [f"## My rule on {sweep.options['mine']}"]
+
+
+def test_a_rule_of_ones_own_is_named_by_module_and_class(tmp_path):
+    spec = spec_from(tmp_path, CELLS + '[rule]\nname = "test_rules:OwnRule"\nmine = "F"\n')
+    assert isinstance(rule_of(spec), OwnRule)
+    assert rule_of(spec).markdown(Swept(spec, [])) == ["## My rule on F"]
+    with pytest.raises(ConfigError, match="mine"):
+        spec_from(tmp_path, CELLS + '[rule]\nname = "test_rules:OwnRule"\n')
+
+
+@pytest.mark.parametrize("name, fragment", [
+    ("test_rules:Missing", "has no 'Missing'"),
+    ("os:getcwd", "is not a subclass of econet_ros.science.sweeps.rules.Rule"),
+])
+def test_a_rule_name_that_resolves_to_no_rule_is_one_line(tmp_path, name, fragment):
+    with pytest.raises(PluginError, match=fragment) as error:
+        spec_from(tmp_path, f'rule = "{name}"\n' + CELLS)
+    assert "\n" not in str(error.value)
+
+
 def test_a_companion_sweep_may_be_left_out(tmp_path):
     spec = spec_from(tmp_path, CELLS + '[rule]\nname = "confirmatory"\nfour = "F"\n'
                      'paper = "T"\nmatched = "T"\n')
-    assert rule_of(spec) is RULES["confirmatory"]
+    assert rule_of(spec) is named_rule("confirmatory")
 
 
 def test_the_rule_is_kept_in_the_sweep_folder(tmp_path):
@@ -76,17 +95,6 @@ def test_the_rule_is_kept_in_the_sweep_folder(tmp_path):
     assert load_sweep(tmp_path).rule == spec.rule == {
         "name": "confirmatory", "four": "four-2-2-4", "paper": "three-8", "matched": "three-4",
         "map": "load-map", "registered": REGISTRATION}
-
-
-def test_the_pre_registered_sweeps_name_their_registration_and_the_report_checks_it():
-    for name in ("confirm", "load-map"):
-        assert load_spec(SPECS / f"{name}.toml").rule["registered"] == REGISTRATION
-    rows = [{**row, "commit": "", "dirty": ""} for row in confirmed_rows()]
-    sweep = Swept(load_spec(SPECS / "confirm.toml"), rows)
-    said = sweep.registration()
-    assert said.startswith(f"Pre-registered at commit `{REGISTRATION[:12]}`")
-    assert f"of 0 of its {len(rows)} run(s); {len(rows)} cannot be checked here" in said
-    assert Swept(load_spec(SPECS / "arch-x-mutation.toml"), rows).registration() == ""
 
 
 def test_a_folder_made_before_rules_is_refused_then_given_the_rule_but_not_other_runs(tmp_path):
@@ -105,24 +113,8 @@ def test_a_folder_made_before_rules_is_refused_then_given_the_rule_but_not_other
         prepare_folder(other, tmp_path)
 
 
-def test_the_rule_not_the_name_decides_the_report(tmp_path):
-    spec = load_spec(SPECS / "confirm.toml")
-    spec.name = "renamed"
-    sweep = Swept(spec, confirmed_rows())
-    text = "\n".join(rule_of(spec).markdown(sweep))
-    assert "### H1:" in text and "setting by setting" in text    # its tables and regime's
-    assert "2/2/4 become the defaults" in "\n".join(choose_defaults([sweep]))
-    assert rule_of(spec).architecture(sweep, [sweep])[0].startswith("## The architecture")
-
-
-def test_the_confirmatory_rule_chooses_the_defaults_over_the_regime_rule():
-    confirmed = Swept(load_spec(SPECS / "confirm.toml"), confirmed_rows())
-    regime = Swept(load_spec(SPECS / "arch-x-mutation.toml"), [])
-    assert choose_defaults([regime, confirmed]) == choose_defaults([confirmed])
-
-
 @pytest.mark.parametrize("path", sorted(SPECS.glob("*.toml")), ids=lambda p: p.stem)
 def test_every_example_spec_reads_with_its_rule(path):
     spec = load_spec(path)
-    assert rule_of(spec) is (RULES[spec.rule["name"]] if spec.rule else NO_RULE)
+    assert rule_of(spec) is (named_rule(spec.rule["name"]) if spec.rule else NO_RULE)
     assert "issue" not in path.read_text(encoding="utf-8").lower()

@@ -100,7 +100,7 @@ def in_process(spec_path: Path, tmp: Path) -> dict[tuple, dict[str, bytes]]:
     (TINY.replace('"evolution.cycles" = 20', '"evolution.generations" = 20'),
      "evolution.generations is set by the spec's own"),
     (TINY.replace('seeds = [4, 5]', 'seeds = [4, 5]\nrule = "best"'),
-     "rule must be one of confirmatory, regime, load-map, readings"),
+     "rule must be one of confirmatory, e1-range, e1-width"),
 ])
 def test_bad_specs_are_one_line_errors_before_any_run(tmp_path, capsys, text, fragment):
     out = tmp_path / "out"

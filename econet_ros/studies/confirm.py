@@ -11,11 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import holding
-from ..stats import Estimate, estimate, firth_logistic, median, paired, share_difference
-from ..verdicts import (CONTRADICTED, EARLY_AHEAD, INCONCLUSIVE, MOST, REPLICATES, Row, above,
-                        below, combine, row, sign_count, table)
-from .plan import SweepSpec, values
+from ..science import holding
+from ..science.stats import (Estimate, estimate, firth_logistic, median, paired,
+                             share_difference)
+from ..science.sweeps.plan import SweepSpec, values
+from ..science.verdicts import (CONTRADICTED, EARLY_AHEAD, INCONCLUSIVE, MOST, REPLICATES, Row,
+                                above, below, combine, row, sign_count, table)
 
 
 SIZE_MARGIN = 0.5          # H3b, H3c: log odds per doubling within which size does not matter

@@ -1,9 +1,10 @@
 """The page of the pre-registered experiments E1-E4 and the independent check
 (docs/preregistrations.md, "Experiments E1-E4 and an independent check"), made from the folders
 that hold them, each recognised by what it holds: a sweep folder whose rule is an experiment's
-(E1, E2's onset, E3), a transplant folder (E2-T, econet sweep transplant), a study folder (E4,
-its claims.csv) and any folder holding a reference check's section (REFERENCE_CHECK). E2's
-screen needs no folder: it is computed here (under a minute). The eleven hypotheses are judged
+(E1, E2's onset, E3), a transplant folder (E2-T, econet sweep transplant), a screen folder (E2-S,
+econet sweep screen), a study folder (E4, its claims.csv) and any folder holding a reference
+check's section (REFERENCE_CHECK): a page made from stored results, which never runs a
+simulation. The eleven hypotheses are judged
 together, Holm over the registered family, and the sentences the registration fixed are chosen
 by the adjusted verdicts."""
 from __future__ import annotations
@@ -17,16 +18,20 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import ResultsError
-from ...provenance import made_with
-from .. import holding
-from ..stats import share
-from ..verdicts import ABSENT, FOUR_VERDICTS, INCONCLUSIVE, REPLICATES, REVERSED
+from ..errors import ResultsError
+from ..provenance import made_with
+from ..science import holding
+from ..science.stats import share
+from ..science.sweeps.outcomes import run_series, tidy_rows
+from ..science.sweeps.rules import Swept, rule_of
+from ..science.sweeps.spec import load_sweep
+from ..science.verdicts import (ABSENT, FOUR_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
+                                REVERSED)
 from . import experiments, transplant
 from .figures import experiments_figure
-from .outcomes import run_series, tidy_rows
-from .rules import Experiment, Swept, rule_of
-from .spec import load_sweep
+from .rules import Experiment
+from .screen import TABLE as SCREEN_TABLE
+from .screen import Screened, read_screen, screen_criteria, screen_markdown
 
 REFERENCE_CHECK = "reference-check.md"   # the independent check's section, in its sweep folder
 ONSET_WINDOW = 20                       # generations: E2's onset is the first such window held
@@ -38,6 +43,7 @@ class Folders:
 
     sweeps: list[tuple[Path, Swept]] = field(default_factory=list)
     transplants: list[tuple[Path, dict]] = field(default_factory=list)
+    screens: list[Screened] = field(default_factory=list)
     studies: list[Path] = field(default_factory=list)
     checks: list[Path] = field(default_factory=list)
 
@@ -54,6 +60,9 @@ def gather(folders: list[Path]) -> Folders:
         if (folder / transplant.RECORD).exists():
             found.transplants.append((folder, json.loads((folder / transplant.RECORD).read_text())))
             known = True
+        if (folder / SCREEN_TABLE).exists():
+            found.screens.append(read_screen(folder))
+            known = True
         if (folder / "claims.csv").exists() and (folder / "study.json").exists():
             found.studies.append(folder)
             known = True
@@ -62,7 +71,8 @@ def gather(folders: list[Path]) -> Folders:
             known = True
         if not known:
             raise ResultsError(f"{folder} holds no experiment: expected a sweep folder, a "
-                               f"transplant folder, a study folder or a {REFERENCE_CHECK}")
+                               f"transplant folder, a screen folder, a study folder or a "
+                               f"{REFERENCE_CHECK}")
     return found
 
 
@@ -162,6 +172,7 @@ E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registe
     ABSENT: "the {term} moves holding by less than the margin",
     REVERSED: "at equal everything else, holding rises as {change}",
     INCONCLUSIVE: "the {term} coefficient's interval {allows}",
+    NOT_JUDGED: "the {term} coefficient could not be measured",
 }
 E1_MARGIN = 0.5       # log odds per doubling, as registered for every E1 coefficient
 
@@ -228,7 +239,8 @@ E3_SIDE_SENTENCES = {   # E3-H and E3-T in words, by verdict; read beside E3-M's
              ABSENT: "Modular and scrambled nets hold about equally often (within the margin).",
              REVERSED: "The scrambled net holds more often than the modular one.",
              INCONCLUSIVE: "Whether the modular net holds more often than the scrambled one "
-                           "stays inconclusive."},
+                           "stays inconclusive.",
+             NOT_JUDGED: "Whether the modular net holds more often could not be judged (n/a)."},
     "E3-T": {REPLICATES: "The modular net's late fitness is above the three-layer net's of its "
                          "width (4 hidden units).",
              ABSENT: "Against the three-layer net of its width (4 hidden units) the modular "
@@ -236,7 +248,9 @@ E3_SIDE_SENTENCES = {   # E3-H and E3-T in words, by verdict; read beside E3-M's
              REVERSED: "The three-layer net of its width (4 hidden units) does better than the "
                        "modular net.",
              INCONCLUSIVE: "Against the three-layer net of its width (4 hidden units) the "
-                           "modular net's late fitness stays inconclusive."},
+                           "modular net's late fitness stays inconclusive.",
+             NOT_JUDGED: "Against the three-layer net of its width the modular net could not "
+                         "be judged (n/a)."},
 }
 
 
@@ -252,7 +266,8 @@ def e3_sentences(verdicts: dict[str, str]) -> list[str]:
             REVERSED: "At equal weights and width, the scrambled net does better: the claim is "
                       "reversed.",
             INCONCLUSIVE: "Whether splitting the senses helps at equal weights and width stays "
-                          "inconclusive."}[m]
+                          "inconclusive.",
+            NOT_JUDGED: "Whether splitting the senses helps could not be judged (n/a)."}[m]
     return [said, *(E3_SIDE_SENTENCES[key][verdicts[key]] for key in E3_SIDE_SENTENCES
                     if key in verdicts)]
 
@@ -265,11 +280,10 @@ ONSET_RULES = ("e2-onset", "e2-population")
 @dataclass
 class Judgement:
     """The family judged once: every hypothesis after Holm, the criteria of each experiment
-    sweep (by sweep name) and the screen's flags."""
+    sweep (by sweep name)."""
 
-    judged: list[experiments.Judged]
+    judged: list[experiments.Hypothesis]
     by_sweep: dict[str, dict]
-    screened: dict[str, np.ndarray]
 
     @property
     def adjusted(self) -> dict[str, str]:
@@ -277,9 +291,10 @@ class Judgement:
 
 
 def judge(found: Folders) -> Judgement:
-    """E2's screen computed, the transplants' and the sweeps' criteria, Holm over them all."""
-    screened = experiments.screen_all()
-    criteria = dict(experiments.screen(screened["4/4/8"], screened["2/2/4"]))
+    """The screens', the transplants' and the sweeps' criteria, Holm over them all."""
+    criteria = {}
+    for screened in found.screens:
+        criteria.update(screen_criteria(screened))
     for _, record in found.transplants:
         criteria.update(experiments.transplant_kept(transplant.kept_flags(record)))
     by_sweep = {}
@@ -288,7 +303,7 @@ def judge(found: Folders) -> Judgement:
         if isinstance(rule, Experiment):
             by_sweep[sweep.spec.name] = rule.criteria(sweep)
             criteria.update(by_sweep[sweep.spec.name])
-    return Judgement(experiments.family(criteria), by_sweep, screened)
+    return Judgement(experiments.family(criteria), by_sweep)
 
 
 def header_lines(found: Folders, out: Path, published: Path | None) -> list[str]:
@@ -330,8 +345,10 @@ def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
 
 def e2_lines(found: Folders, judgement: Judgement) -> list[str]:
     """E2's screen, transplants, onsets and sentences."""
-    lines = ["## E2: discovery or maintenance\n", "The screen (random genomes, no evolution; "
-             "seeds 9201-9210):\n", *experiments.screen_markdown(judgement.screened), ""]
+    lines = ["## E2: discovery or maintenance\n"]
+    for screened in found.screens:
+        lines += [f"The screen (random genomes, no evolution; seeds {screened.seeds}):\n",
+                  *screen_markdown(screened), ""]
     for folder, record in found.transplants:
         lines += [f"The transplant ({folder.name}):\n", *transplant_markdown(record)]
     for folder, sweep in found.sweeps:

@@ -1,20 +1,25 @@
-"""The pre-registered rule (docs/preregistrations.md, "The confirmatory study") on hand-made tidy rows of
-its own sweep specs: data built to meet a hypothesis replicate it, data built against it
-contradict it, and data that cannot tell are inconclusive."""
+"""The pre-registered rule (docs/preregistrations.md, "The confirmatory study") on hand-made tidy
+rows of its own sweep specs: data built to meet a hypothesis replicate it, data built against
+it contradict it, and data that cannot tell are inconclusive; the reports ask the rule, which
+chooses the defaults over the regime rule and checks its registration."""
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from econet_ros.science.sweeps import confirm
-from econet_ros.science.sweeps.rules import RULES, Swept
+from econet_ros.science.sweeps.outcomes import OUTCOMES, WINDOWS
+from econet_ros.science.sweeps.rules import Swept, choose_defaults, named_rule, rule_of
 from econet_ros.science.sweeps.spec import load_spec
+from econet_ros.studies import confirm
 
-SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
 CONFIRM = load_spec(SPECS / "confirm.toml")
 MAP = load_spec(SPECS / "load-map.toml")
-NETS = RULES["confirmatory"].networks(Swept(CONFIRM, []))      # the cells its [rule] names
-EQUAL = RULES["load-map"].equal_loads(Swept(MAP, []))
+# the commit that wrote the confirmatory study's and the map's pre-registration into the docs
+REGISTRATION = "8b795cf729e77c19bbb05e21bbfdc270fb52c859"
+NETS = named_rule("confirmatory").networks(Swept(CONFIRM, []))      # the cells its [rule] names
+EQUAL = named_rule("load-map").equal_loads(Swept(MAP, []))
 
 
 def confirm_rows(gap=300.0, early_gap=50.0, holding_runs=18, noise=20.0, seed=0):
@@ -126,3 +131,37 @@ def test_holding_table_intervals_stay_inside_the_measures_range():
     mean_part = separations.split(";")[0]                 # "3.2 [0.0, 6.5] (n=20)"
     low = float(mean_part.split("[")[1].split(",")[0])
     assert "17 / 3 / 0" in line and low == 0.0, line
+
+
+# -- the rules as the reports ask them ---------------------------------------------------------
+def confirmed_rows() -> list[dict]:
+    """The confirmatory sweep's hand-made rows (test_confirm), with every other outcome NaN."""
+    unmeasured = {f"{o.name}_{w}": math.nan for o in OUTCOMES for w in WINDOWS}
+    return [{**unmeasured, "weights": 64, **row} for row in confirm_rows()]
+
+
+def test_the_pre_registered_sweeps_name_their_registration_and_the_report_checks_it():
+    for name in ("confirm", "load-map"):
+        assert load_spec(SPECS / f"{name}.toml").rule["registered"] == REGISTRATION
+    rows = [{**row, "commit": "", "dirty": ""} for row in confirmed_rows()]
+    sweep = Swept(load_spec(SPECS / "confirm.toml"), rows)
+    said = sweep.registration()
+    assert said.startswith(f"Pre-registered at commit `{REGISTRATION[:12]}`")
+    assert f"of 0 of its {len(rows)} run(s); {len(rows)} cannot be checked here" in said
+    assert Swept(load_spec(SPECS / "arch-x-mutation.toml"), rows).registration() == ""
+
+
+def test_the_rule_not_the_name_decides_the_report(tmp_path):
+    spec = load_spec(SPECS / "confirm.toml")
+    spec.name = "renamed"
+    sweep = Swept(spec, confirmed_rows())
+    text = "\n".join(rule_of(spec).markdown(sweep))
+    assert "### H1:" in text and "setting by setting" in text    # its tables and regime's
+    assert "2/2/4 become the defaults" in "\n".join(choose_defaults([sweep]))
+    assert rule_of(spec).architecture(sweep, [sweep])[0].startswith("## The architecture")
+
+
+def test_the_confirmatory_rule_chooses_the_defaults_over_the_regime_rule():
+    confirmed = Swept(load_spec(SPECS / "confirm.toml"), confirmed_rows())
+    regime = Swept(load_spec(SPECS / "arch-x-mutation.toml"), [])
+    assert choose_defaults([regime, confirmed]) == choose_defaults([confirmed])

@@ -3,8 +3,8 @@ check"): E1 (what decides holding: the last hidden layer's width, the weights, t
 or saturation), E2 (finding holding or keeping it), E3 (the paper's modularity at equal weights
 and width), each hypothesis a verdicts.Criterion with its margin and four-way verdict, and Holm
 over the family of all eleven. The rules were committed before any of these runs; this module
-only applies them to tidy rows (outcomes.py) or, for E2's screen and transplant, to holding
-flags."""
+only applies them to tidy rows (outcomes.py) or, for E2's transplant, to holding flags (E2's
+screen: screen.py)."""
 from __future__ import annotations
 
 import math
@@ -12,27 +12,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...config import Config
-from ...evolution import InProcessEvaluator, initial_genomes
-from .. import holding
-from ..claims import RANGE_SHARE
-from ..stats import Estimate, firth_logistic, holm, paired, share, share_difference
-from ..verdicts import DECIDED, INCONCLUSIVE, MOST, Criterion, Row, above, decide
-from .plan import SweepSpec, values
+from ..science import holding
+from ..science.claims import RANGE_SHARE
+from ..science.stats import Estimate, firth_logistic, paired, share, share_difference
+from ..science.sweeps.plan import SweepSpec, values
+from ..science.verdicts import MOST, Criterion, Row, above, decide, holm_family
 
 LOG_ODDS_MARGIN = 0.5     # E1: log odds per doubling within which a term does not matter (H3b's)
-SCREEN_MARGIN = RANGE_SHARE   # E2-S: a share's margin, 5% of its range
 SHARE_GAP_MARGIN = 0.25   # E3-H: the claims' margin for "most runs", three runs in four
-SCREEN_POPULATION = 200   # E2-S: random genomes per seed (a multiple of the 20 parents)
-SCREEN_SEEDS = tuple(range(9201, 9211))
-SCREENED = {"2/2/4": {"network.visual_hidden": 2, "network.proprio_hidden": 2,
-                      "network.intermodal_hidden": 4},
-            "4/4/8": {"network.visual_hidden": 4, "network.proprio_hidden": 4,
-                      "network.intermodal_hidden": 8},
-            "three-layer 4": {"evolution.condition": "three-layer",
-                              "network.three_layer_hidden": 4},
-            "three-layer 8": {"evolution.condition": "three-layer",
-                              "network.three_layer_hidden": 8}}
 FEWEST_SOURCES = 5        # E2-T is not judged on fewer holding champions
 RESAMPLES = 2000          # the seed-cluster bootstrap's resamples
 BOOTSTRAP = "Firth, seed-cluster bootstrap"
@@ -126,50 +113,7 @@ def e1_range(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> d
     return {"E1-S": falls(f"{TERM_NAMES['range']} coefficient", fit["range"])}
 
 
-# -- E2: the screen, the transplant, the onset ------------------------------------------------
-def screen_genomes(config: Config, seeds, population: int = SCREEN_POPULATION) -> np.ndarray:
-    """Whether each random genome that reaches holds (1.0) or brushes (0.0), no evolution: per
-    seed, the first generation a run of that seed (run 1) with ``population`` econets draws,
-    each scored on that generation's trials; a genome holds by the run's rule (at most one
-    separation per successful trial over its trials)."""
-    config = config.replace(**{"evolution.population": population})
-    evaluator = InProcessEvaluator(config)
-    flags = []
-    for seed in seeds:
-        genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
-        m = evaluator.test_generation(genomes, seed, 1, 0).measures
-        ratios = [holding.per_success(sep, hit) for sep, hit in zip(m.separations, m.success)]
-        flags += [float(holding.kind(r) == holding.HOLDS) for r in ratios if np.isfinite(r)]
-    return np.array(flags)
-
-
-def screen(large: np.ndarray, small: np.ndarray) -> dict[str, Criterion]:
-    """E2-S on the random genomes that reach (1.0: holds, 0.0: brushes): the large net's
-    holding share minus the small net's, predicted < 0 (holding must be found)."""
-    gap = share_difference(large, small)
-    return {"E2-S": Criterion("holding share of random genomes, 4/4/8 - 2/2/4", gap, high=0.0,
-                              margin=SCREEN_MARGIN, null=True)}
-
-
-def screen_all(base: Config | None = None, seeds=SCREEN_SEEDS,
-               population: int = SCREEN_POPULATION) -> dict[str, np.ndarray]:
-    """The registered screen: every architecture of SCREENED on the same seeds."""
-    base = base or Config()
-    return {name: screen_genomes(base.replace(**changes), seeds, population)
-            for name, changes in SCREENED.items()}
-
-
-def screen_markdown(flags: dict[str, np.ndarray]) -> list[str]:
-    """The screen's shares per architecture, E2-S and, beside it, three-layer 8 - 4."""
-    lines = ["| network | random genomes that reach | of them hold [95% CI, Clopper-Pearson] |",
-             "|---|---|---|"]
-    lines += [f"| {name} | {len(f)} | {share(f).text(3)} |" for name, f in flags.items()]
-    three = share_difference(flags["three-layer 8"], flags["three-layer 4"])
-    e2_s = screen(flags["4/4/8"], flags["2/2/4"])["E2-S"]
-    return lines + ["", f"E2-S: {e2_s.text(four=True)}.",
-                    f"Beside it, three-layer 8 - 4: {three.text(3)} ({three.method})."]
-
-
+# -- E2: the transplant, the onset (the screen: screen.py) ------------------------------------------------
 def most_hold(what: str, flags) -> Criterion:
     """A share of runs that hold, predicted above one half (reversed wholly below it)."""
     return Criterion(what, share(flags), low=MOST)
@@ -224,8 +168,9 @@ def e3(spec: SweepSpec, rows: list[dict], cells: Modularity) -> dict[str, Criter
 
 # -- the family -------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class Judged:
-    """A hypothesis's raw four-way verdict with its p-value, and after Holm over the family."""
+class Hypothesis:
+    """A hypothesis of the family judged: its raw four-way verdict with its p-value, and after
+    Holm over the family."""
 
     key: str
     criterion: Criterion
@@ -235,26 +180,23 @@ class Judged:
     adjusted: str
 
 
-def family(criteria: dict[str, Criterion]) -> list[Judged]:
+def family(criteria: dict[str, Criterion]) -> list[Hypothesis]:
     """Holm over the hypotheses given (the registered family is FAMILY; one not yet judged is
-    left out of the adjustment): the adjusted verdict is the raw one when its adjusted p-value
-    is below DECIDED, inconclusive otherwise."""
+    left out of the adjustment), as verdicts.holm_family judges any family."""
     unknown = set(criteria) - set(FAMILY)
     if unknown:
         raise ValueError(f"not in the registered family: {', '.join(sorted(unknown))}")
     keys = [k for k in FAMILY if k in criteria]
     decided = [decide([criteria[k]]) for k in keys]
-    adjusted = holm([p for _, p in decided])
-    return [Judged(k, criteria[k], v, p, a,
-                   v if np.isfinite(a) and a < DECIDED else INCONCLUSIVE)
-            for k, (v, p), a in zip(keys, decided, adjusted)]
+    return [Hypothesis(k, criteria[k], v, p, a, kept)
+            for k, (v, p), (a, kept) in zip(keys, decided, holm_family(decided))]
 
 
-def rows_of(judged: list[Judged]) -> list[Row]:
+def rows_of(judged: list[Hypothesis]) -> list[Row]:
     return [Row(j.key, j.criterion.text(four=True), j.verdict) for j in judged]
 
 
-def family_table(judged: list[Judged]) -> list[str]:
+def family_table(judged: list[Hypothesis]) -> list[str]:
     """The hypotheses as Markdown: measured, raw verdict and p, Holm-adjusted p and verdict."""
     def number(p: float) -> str:
         return f"{p:.3g}" if math.isfinite(p) else "n/a"

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from econet_ros.cli import main
-from econet_ros.science.sweeps import experiments, family
+from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
+from econet_ros.studies import experiments, family, screen
 from sweep_helpers import evolved_sweep
 
 MODULARITY = '''
@@ -119,11 +120,21 @@ def test_a_folder_that_holds_no_experiment_is_a_one_line_error(tmp_path, capsys)
     assert "holds no experiment" in err and err.count("\n") == 1
 
 
+def stored_screen(tmp_path: Path) -> Path:
+    """A screen folder as econet sweep screen stores one, its counts made up."""
+    (tmp_path / "screen.toml").write_text(
+        '[cells.small]\n[cells.large]\n[rule]\nname = "e2-screen"\nlarge = "large"\n'
+        'small = "small"\n')
+    folder = tmp_path / "screen"
+    folder.mkdir()
+    (folder / screen.SPEC).write_text(json.dumps(load_spec(tmp_path / "screen.toml").to_dict()))
+    (folder / screen.TABLE).write_text("cell,condition,seed,genomes,reach,hold\n"
+                                       "small,normal,1,20,3,2\nlarge,normal,1,20,3,1\n")
+    return folder
+
+
 def test_the_page_judges_the_family_from_the_folders_given(e3_folder, tmp_path, monkeypatch,
                                                            capsys):
-    small = {"2/2/4": np.array([1.0, 1.0, 0.0]), "4/4/8": np.array([0.0, 0.0, 1.0]),
-             "three-layer 4": np.array([1.0]), "three-layer 8": np.array([0.0])}
-    monkeypatch.setattr(experiments, "screen_all", lambda: small)
     moved = tmp_path / "moved"
     moved.mkdir()
     (moved / "transplant.json").write_text(json.dumps({"source": "s", "into": [4, 4, 8], "runs": [
@@ -134,7 +145,7 @@ def test_the_page_judges_the_family_from_the_folders_given(e3_folder, tmp_path, 
     (check / family.REFERENCE_CHECK).write_text("## The independent check\n\nPASS (made up)\n")
     out = tmp_path / "page"
     assert main(["sweep", "experiments", str(e3_folder), str(moved), str(check),
-                 "--out", str(out)]) == 0
+                 str(stored_screen(tmp_path)), "--out", str(out)]) == 0
     text = (out / "experiments.md").read_text()
     for key in ("E2-S", "E2-T", "E3-M", "E3-H", "E3-T"):
         assert f"| {key} |" in text

@@ -9,10 +9,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import holding
-from ..stats import Estimate, bounded, estimate, paired
-from ..verdicts import EARLY_AHEAD, Row, above, below, combine, point, sign_count
-from .plan import SweepSpec, comparison_pairs, values
+from ..science import holding
+from ..science.stats import Estimate, bounded, estimate, paired
+from ..science.sweeps.plan import SweepSpec, comparison_pairs, values
+from ..science.verdicts import EARLY_AHEAD, Row, above, below, combine, point, sign_count
 
 
 RANDOM_SHARE = 0.1     # B3: random movement's late fitness at most this share of F's

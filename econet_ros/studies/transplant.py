@@ -15,17 +15,18 @@ from typing import Callable
 
 import numpy as np
 
-from ...config import Config
-from ...controllers import FourLayerNetwork, transplant
-from ...errors import ConfigError, ResultsError
-from ...evolution import InProcessEvaluator, generation_setups, genome_weights, select_parents
-from ...files import write_atomically
-from ...genome import encode
-from ...runs import RunData, evolve_into
-from ...trials import run_trials
-from .. import holding
-from .outcomes import run_holding
-from .spec import load_sweep
+from ..config import Config
+from ..controllers import FourLayerNetwork, transplant
+from ..errors import ConfigError, ResultsError
+from ..evolution import (InProcessEvaluator, generation_setups, genome_weights,
+                         select_parents)
+from ..files import write_atomically
+from ..genome import encode
+from ..runs import RunData, evolve_into
+from ..science import holding
+from ..science.sweeps.outcomes import run_holding
+from ..science.sweeps.spec import load_sweep
+from ..trials import run_trials
 
 RECORD = "transplant.json"
 ARMS = ("transplanted", "control")

@@ -4,7 +4,7 @@ with it the setting's verdict and the rule's choice of defaults."""
 import numpy as np
 import pytest
 
-from econet_ros.science.sweeps.regime import (defaults_markdown, judge_setting, paper_like,
+from econet_ros.studies.regime import (defaults_markdown, judge_setting, paper_like,
                                        reproduces, settings, verdicts)
 from econet_ros.science.sweeps.spec import load_spec
 

@@ -10,13 +10,13 @@ import pytest
 from econet_ros.config import Config
 from econet_ros.errors import ConfigError
 from econet_ros.plugins import make_controller
-from econet_ros.science.sweeps import experiments
+from econet_ros.studies import experiments, screen
 from econet_ros.science.sweeps.plan import SweepSpec
-from econet_ros.science.sweeps.rules import RULES, Swept, family_markdown, rule_of
+from econet_ros.science.sweeps.rules import Swept, known_rules, rule_of
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, NOT_JUDGED, REPLICATES, REVERSED
 
-SPECS = Path(__file__).resolve().parents[3] / "examples" / "sweeps"
+SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
 WIDTH = load_spec(SPECS / "e1-width.toml")
 RANGE = load_spec(SPECS / "e1-range.toml")
 ONSET = load_spec(SPECS / "e2-onset-long.toml")
@@ -116,7 +116,7 @@ def test_the_screen_judges_the_large_net_against_the_small_one(large, verdict):
     rng = np.random.default_rng(3)
     small = (rng.random(2000) < 0.3).astype(float)
     big = (rng.random(2000) < large).astype(float)
-    assert experiments.screen(big, small)["E2-S"].judged == verdict
+    assert screen.e2_s(big, small, "large - small")["E2-S"].judged == verdict
 
 
 @pytest.mark.parametrize("flags, verdict", [([1.0] * 15 + [0.0], REPLICATES),
@@ -170,8 +170,8 @@ def test_a_cell_cannot_both_set_and_seed_a_setting(tmp_path):
 
 def test_holm_runs_over_the_registered_family_and_can_only_withhold_a_verdict():
     rng = np.random.default_rng(4)
-    criteria = {**experiments.screen((rng.random(2000) < 0.25).astype(float),
-                                     (rng.random(2000) < 0.3).astype(float)),
+    criteria = {**screen.e2_s((rng.random(2000) < 0.25).astype(float),
+                              (rng.random(2000) < 0.3).astype(float), "large - small"),
                 **experiments.transplant_kept([1.0] * 15 + [0.0])}
     found = {j.key: j for j in experiments.family(criteria)}
     assert found["E2-T"].adjusted == found["E2-T"].verdict == REPLICATES
@@ -182,29 +182,8 @@ def test_holm_runs_over_the_registered_family_and_can_only_withhold_a_verdict():
 
 
 def test_every_experiment_rule_is_registered_and_its_table_lists_its_hypotheses():
-    assert {"e1-width", "e1-range", "e2-onset", "e2-population", "e3-modularity"} <= set(RULES)
+    assert {"e1-width", "e1-range", "e2-onset", "e2-population", "e3-modularity"} <= \
+        set(known_rules())
     rows = rows_for(ONSET, lambda c, cond, w: 0.5)
-    text = "\n".join(family_markdown([Swept(ONSET, rows)],
-                                     experiments.transplant_kept([1.0] * 6)))
-    assert "| E2-T |" in text and "| E2-O |" in text and "Holm p" in text
-
-
-def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
-    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
-                                 "evolution.parents": 10})
-    a = experiments.screen_genomes(config, [9201], population=20)
-    b = experiments.screen_genomes(config, [9201], population=20)
-    assert np.array_equal(a, b) and 0 < len(a) <= 20     # only the genomes that reach
-    assert set(a.tolist()) == {0.0, 1.0}                  # these 20 both hold and brush
-    two = experiments.screen_genomes(config, [9201, 9202], population=20)
-    assert np.array_equal(two[:len(a)], a)                # a seed's genomes do not move
-
-
-def test_the_registered_screen_covers_four_architectures_and_reports_e2_s():
-    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
-                                 "evolution.parents": 10})
-    flags = experiments.screen_all(config, seeds=[9201], population=20)
-    assert list(flags) == ["2/2/4", "4/4/8", "three-layer 4", "three-layer 8"]
-    text = "\n".join(experiments.screen_markdown(flags))
-    assert "E2-S: holding share of random genomes, 4/4/8 - 2/2/4" in text
-    assert experiments.SCREEN_SEEDS == tuple(range(9201, 9211))
+    text = "\n".join(rule_of(ONSET).markdown(Swept(ONSET, rows)))
+    assert "| E2-O |" in text and "Holm p" in text

@@ -1,0 +1,124 @@
+"""The studies' verbs of `econet sweep` (registered in setup.cfg, econet_ros.sweep_verbs):
+``transplant`` runs the transplant arm of the pre-registered experiment E2 from a source sweep,
+``screen`` stores E2's screen of random genomes, ``experiments`` writes the page of the
+experiments E1-E4 and the independent check from the folders that hold them. Each imports its
+work only when run."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..cli.sweep import Verb
+from ..errors import ConfigError, ResultsError
+from ..files import ensure_writable
+
+
+def units(text: str) -> tuple[int, int, int]:
+    """V/P/I hidden units, e.g. 4/4/8."""
+    parts = text.split("/")
+    if len(parts) != 3 or not all(p.isdigit() and int(p) > 0 for p in parts):
+        raise argparse.ArgumentTypeError(f"expected V/P/I positive whole numbers, e.g. 4/4/8, "
+                                         f"got {text!r}")
+    return tuple(int(p) for p in parts)
+
+
+class Transplant(Verb):
+    """econet sweep transplant SOURCE --out DIR [--into V/P/I]."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        moved = verbs.add_parser(
+            name, help="larger nets started from the holding champions of a source sweep",
+            description="For every finished run of SOURCE (a sweep of small four-layer nets "
+                        "under evolution.genome_code = sign-magnitude, whose grid holds an exact "
+                        "zero) that holds late, its champion is laid out in a larger net with "
+                        "every added weight exactly zero (checked: it scores exactly what the "
+                        "champion does), and a run of the larger net evolves from copies of it "
+                        "on the source's seed, beside a control run from random genomes on the "
+                        "same seed. Writes DIR/transplanted/, DIR/control/ and "
+                        "DIR/transplant.json (which runs kept holding); run again to resume. "
+                        "The pre-registered experiment E2 (docs/preregistrations.md).")
+        moved.add_argument("source", metavar="SOURCE", help="a folder made by econet sweep run")
+        moved.add_argument("--out", required=True, help="results folder")
+        moved.add_argument("--into", type=units, default=(4, 4, 8), metavar="V/P/I",
+                           help="the larger net's visual/proprioceptive/intermodal hidden "
+                                "units, each at least the source's (default: 4/4/8)")
+        moved.add_argument("--quiet", action="store_true", help="no progress lines")
+        moved.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from .transplant import kept_flags, run_transplants
+        ensure_writable(Path(args.out))
+        record = run_transplants(Path(args.source), Path(args.out), args.into,
+                                 on_run=None if args.quiet else lambda what: print(
+                                     f"done: {what}", flush=True))
+        kept = kept_flags(record)
+        print(f"transplant: {len(kept)} holding source run(s); {int(kept.sum())} still hold "
+              f"late in {'/'.join(map(str, args.into))} ({Path(args.out) / 'transplant.json'})")
+        return 0
+
+
+class Experiments(Verb):
+    """econet sweep experiments FOLDER... --out DIR [--against CLAIMS_CSV] [--published DIR]."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        page = verbs.add_parser(
+            name, help="the page of the pre-registered experiments E1-E4 and the check",
+            description="Judges the eleven hypotheses of the pre-registered experiments "
+                        "together (Holm over the family) from the folders given, each "
+                        "recognised by what it holds: sweep folders whose rule is an "
+                        "experiment's (E1, E2's onset, E3), a folder made by econet sweep "
+                        "transplant (E2-T), a study folder (E4, its claims), a folder holding "
+                        "reference-check.md (the independent check), a folder made by econet "
+                        "sweep screen (E2-S). Writes DIR/experiments.md and DIR/figures/. "
+                        "docs/preregistrations.md has the rules.")
+        page.add_argument("folders", metavar="FOLDER", nargs="+", help="the experiments' folders")
+        page.add_argument("--out", required=True, help="folder for experiments.md and figures/")
+        page.add_argument("--against", default=None, metavar="CLAIMS_CSV",
+                          help="an earlier claims.csv that E4's claims are compared with")
+        page.add_argument("--published", default=None, metavar="DIR",
+                          help="where the sweeps' summaries are published (linked from the "
+                               "page)")
+        page.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from .family import experiments_page
+        ensure_writable(Path(args.out))
+        against = Path(args.against) if args.against else None
+        if against is not None and not against.is_file():
+            raise ResultsError(f"--against {against}: no such claims table")
+        page = experiments_page([Path(f) for f in args.folders], Path(args.out), against,
+                                Path(args.published) if args.published else None)
+        print(f"experiments: {page}")
+        return 0
+
+
+class Screen(Verb):
+    """econet sweep screen SPEC --out DIR."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        screen = verbs.add_parser(
+            name, help="E2's screen: random genomes of every cell, no evolution, stored",
+            description="For every cell and seed of SPEC (a sweep spec whose rule is e2-screen, "
+                        "e.g. examples/sweeps/e2-screen.toml) scores the random genomes of the "
+                        "run's first generation, no evolution, and writes DIR/screen.csv (per "
+                        "cell and seed: genomes, how many reach, how many of them hold) and "
+                        "DIR/screen.json (the spec), for econet sweep experiments (E2-S). "
+                        "About a minute for the registered screen.")
+        screen.add_argument("spec", metavar="SPEC", help="screen specification (TOML)")
+        screen.add_argument("--out", required=True, help="results folder")
+        screen.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from ..science.sweeps.spec import load_spec
+        from .rules import E2Screen
+        from .screen import run_screen
+        spec = load_spec(Path(args.spec))
+        if spec.rule.get("name") != E2Screen.name:
+            raise ConfigError(f"{args.spec} is not a screen spec (its rule must be "
+                              f"'{E2Screen.name}')")
+        ensure_writable(Path(args.out))
+        print(f"screen: {run_screen(spec, Path(args.out))}")
+        return 0

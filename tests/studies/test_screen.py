@@ -1,0 +1,89 @@
+"""E2's screen as a stored result: `econet sweep screen` scores the random genomes of every cell
+and seed of a screen spec and stores the table, reproducibly; the experiments' page reads it and
+never screens again; the registered spec names its networks, seeds and E2-S's cells."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from econet_ros.cli import main
+from econet_ros.config import Config
+from econet_ros.science.sweeps.spec import load_spec
+from econet_ros.studies import experiments, family, screen
+
+SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
+TINY = """
+name = "tiny-screen"
+seeds = [9201, 9202]
+behaviour = false
+[settings]
+"evolution.population" = 20
+"evolution.parents" = 10
+"evolution.trials" = 4
+"evolution.cycles" = 40
+[cells.small]
+set = {"network.visual_hidden" = 2, "network.proprio_hidden" = 2, "network.intermodal_hidden" = 4}
+[cells.large]
+set = {"network.visual_hidden" = 4, "network.proprio_hidden" = 4, "network.intermodal_hidden" = 8}
+[[compare]]
+label = "small - large"
+a = {cell = "small"}
+b = {cell = "large"}
+[rule]
+name = "e2-screen"
+large = "large"
+small = "small"
+"""
+
+
+def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
+    config = Config().replace(**{"evolution.trials": 4, "evolution.cycles": 40,
+                                 "evolution.parents": 10, "evolution.population": 20})
+    a = screen.screen_genomes(config, [9201])
+    assert np.array_equal(a, screen.screen_genomes(config, [9201])) and 0 < len(a) <= 20
+    assert set(a.tolist()) == {0.0, 1.0}                  # these 20 both hold and brush
+    two = screen.screen_genomes(config, [9201, 9202])
+    assert np.array_equal(two[:len(a)], a)                # a seed's genomes do not move
+
+
+@pytest.fixture(scope="module")
+def stored(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("screen")
+    (folder / "spec.toml").write_text(TINY)
+    assert main(["sweep", "screen", str(folder / "spec.toml"), "--out",
+                 str(folder / "out")]) == 0
+    return folder / "out"
+
+
+def test_the_stored_table_holds_what_the_screen_scores(stored):
+    screened = screen.read_screen(stored)
+    spec = load_spec(stored.parent / "spec.toml")
+    for cell in spec.cells:
+        config = spec.config(cell, "normal")
+        assert np.array_equal(np.sort(screened.flags[cell.name]),
+                              np.sort(screen.screen_genomes(config, spec.seeds)))
+    text = "\n".join(screen.screen_markdown(screened))
+    assert "E2-S: holding share of random genomes, large - small" in text
+    assert "Beside it, small - large:" in text and screened.seeds == "9201-9202"
+
+
+def test_the_page_reads_the_stored_screen_and_never_screens(stored, tmp_path, monkeypatch):
+    def no_screening(*args):
+        raise AssertionError("the page ran the screen")
+    monkeypatch.setattr(screen, "screen_genomes", no_screening)
+    text = family.experiments_page([stored], tmp_path / "page").read_text()
+    assert "| E2-S |" in text and "seeds 9201-9202" in text
+
+
+def test_a_spec_of_another_rule_is_not_a_screen(tmp_path, capsys):
+    assert main(["sweep", "screen", str(SPECS / "e3-modularity.toml"), "--out",
+                 str(tmp_path)]) == 2
+    assert "is not a screen spec" in capsys.readouterr().err
+
+
+def test_the_registered_screen_names_its_networks_seeds_and_e2_s_cells():
+    spec = load_spec(SPECS / "e2-screen.toml")
+    assert [c.name for c in spec.cells] == ["2/2/4", "4/4/8", "three-layer 4", "three-layer 8"]
+    assert spec.seeds == tuple(range(9201, 9211)) and spec.rule["large"] == "4/4/8"
+    assert {r.config.evolution.population for r in spec.runs()} == {200}
+    assert experiments.FAMILY.count("E2-S") == 1
