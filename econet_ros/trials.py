@@ -65,8 +65,9 @@ class Tally(NamedTuple):
 
 class Trace(NamedTuple):
     """Everything that happened in a batch of trials, cycle by cycle. Both drivers write it
-    field by field, by name: a new field is a declaration here plus its lines in record_row
-    (the compiled loop) and _record_state (the per-cycle one).
+    field by field: a new field is a declaration here plus its lines in record_row (the
+    compiled loop, which takes the fields unpacked in this order by run_block_trials) and
+    _record_state (the per-cycle one).
 
     State arrays have cycles + 1 rows (row t = after t cycles, row 0 = the start); ``motor`` has
     one row per cycle (the command chosen from the observation of row t)."""
@@ -118,9 +119,9 @@ _SHOULDER, _ELBOW, _MOTOR, _EYE_SPEED = (
 class BehaviourRecord(NamedTuple):
     """What the per-generation behaviour measures need of a batch of trials, gathered inside the
     compiled loop: a Trace would cost a study about as much again as the trials themselves.
-    The loop writes it field by field, by name: a new measure is a name in CYCLE_VALUES or
-    PRE_CONTACT_COUNTS (or a field here), its lines in tally_row, and its column in
-    science/measures.py.
+    The loop writes it field by field: a new measure is a name in CYCLE_VALUES or
+    PRE_CONTACT_COUNTS (or a field here, which tally_row takes unpacked in this order from
+    run_block_trials), its lines in tally_row, and its column in science/measures.py.
     Per-cycle arrays have one row per cycle (C, n)."""
 
     pre_contact: np.ndarray     # (C, n) bool: no contact in the trial up to the cycle's start
@@ -267,24 +268,23 @@ def _record_state(trace: Trace, row: int, world: World, obs) -> None:
 
 
 @numba.njit(cache=True, inline="always")
-def record_row(row, i, b, s, e, touching, seen, gap, hx, hy, trace):
-    """Write state row ``row`` of environment i into the trace (gap, hand tip: from sense)."""
-    trace.body[row, i], trace.shoulder[row, i], trace.elbow[row, i] = b, s, e
-    trace.hand[row, i, 0], trace.hand[row, i, 1] = hx, hy
-    trace.hand_object_distance[row, i] = max(gap, 0.0)
-    trace.touch[row, i], trace.fixated[row, i] = touching, seen
+def record_row(row, i, b, s, e, touching, seen, gap, hx, hy, body, shoulder, elbow, hand,
+               hand_object_distance, touch, fixated):
+    """Write state row ``row`` of environment i into the trace, whose arrays (Trace's state
+    fields, in order) come unpacked (gap, hand tip: from sense)."""
+    body[row, i], shoulder[row, i], elbow[row, i] = b, s, e
+    hand[row, i, 0], hand[row, i, 1] = hx, hy
+    hand_object_distance[row, i] = max(gap, 0.0)
+    touch[row, i], fixated[row, i] = touching, seen
 
 
 @numba.njit(cache=True, inline="always")
 def tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles, last_gap,
-               touched, record):
-    """Add state row t of environment i (the m-th of its block) to the behaviour record: finish
-    cycle t - 1, which led to it with ``motor``, and start cycle t. ``last_*`` and ``touched``
-    carry row t - 1 and the contact so far from one row to the next; gap and hand tip come from
-    sense."""
-    pre_contact, fixated, values, counts = \
-        record.pre_contact, record.fixated, record.values, record.counts
-    high, low = record.angle_high, record.angle_low
+              touched, pre_contact, fixated, values, hand, counts, high, low):
+    """Add state row t of environment i (the m-th of its block) to the behaviour record, whose
+    arrays (BehaviourRecord's fields, in order) come unpacked: finish cycle t - 1, which led to
+    it with ``motor``, and start cycle t. ``last_*`` and ``touched`` carry row t - 1 and the
+    contact so far from one row to the next; gap and hand tip come from sense."""
     gap = max(gap, 0.0)
     angles = (b, s, e)
     if t > 0:
@@ -319,7 +319,7 @@ def tally_row(t, i, m, b, s, e, touching, seen, gap, hx, hy, motor, last_angles,
         values[_SHOULDER, t, i], values[_ELBOW, t, i] = s, e
     for j in range(3):
         last_angles[m, j] = angles[j]
-    record.hand[t, i, 0], record.hand[t, i, 1], last_gap[m] = hx, hy, gap
+    hand[t, i, 0], hand[t, i, 1], last_gap[m] = hx, hy, gap
 
 
 @numba.njit(cache=True)
@@ -361,27 +361,16 @@ def _gather_pooled(pre_contact, fixated, values, hand, top, every, group, speeds
 @numba.njit(cache=True, parallel=True)
 def _run_compiled(world, geo, policy, cycles, tally, trace, behaviour, record_trace,
                   record_behaviour):
-    """Whole trials, one block of environments that share a network per thread; the trace and
-    the behaviour record are written when asked for. world: WorldArrays, geo: world.Geometry,
-    policy: Policy, tally: Tally."""
-    for k in numba.prange(world.body.shape[0] // policy.block):
-        _run_block(k, world, geo, policy, cycles, tally, trace, behaviour, record_trace,
-                   record_behaviour)
-
-
-@numba.njit(cache=True)
-def _run_block(k, world, geo, policy, cycles, tally, trace, behaviour, record_trace,
-               record_behaviour):
-    """The trials of block k, with scratch arrays of its own. A function of its own, not inlined
-    into the parallel loop: numba loses writes to arrays reached through a tuple's fields inside
-    a prange body (numba/numba#7135)."""
-    block = policy.block
-    n_inputs = geo.n_inputs
-    run_block_trials(k * block, k, world, geo, policy, cycles,
-                     np.zeros((max(policy.buffer_size, n_inputs), block)), np.zeros(block),
-                     np.zeros(n_inputs), np.zeros(N_MOTOR), np.zeros((block, 3)),
-                     np.zeros(block), np.zeros(block, dtype=np.bool_), tally, trace,
-                     behaviour, record_trace, record_behaviour)
+    """Whole trials, one block of environments that share a network per thread, each block with
+    scratch arrays of its own; the trace and the behaviour record are written when asked for.
+    world: WorldArrays, geo: world.Geometry, policy: Policy, tally: Tally."""
+    block, buffer_size, n_inputs = policy.block, policy.buffer_size, geo.n_inputs
+    for k in numba.prange(world.body.shape[0] // block):
+        run_block_trials(k * block, k, world, geo, policy, cycles,
+                         np.zeros((max(buffer_size, n_inputs), block)), np.zeros(block),
+                         np.zeros(n_inputs), np.zeros(N_MOTOR), np.zeros((block, 3)),
+                         np.zeros(block), np.zeros(block, dtype=np.bool_), tally, trace,
+                         behaviour, record_trace, record_behaviour)
 
 
 @numba.njit(cache=True, inline="always")
@@ -395,15 +384,21 @@ def run_block_trials(first, network, world, geo, policy, cycles, buffer, total, 
     The CPU's loop over blocks and the GPU's thread per trial (econet_ros.cuda_kernels, one
     column) both run trials through it, so there is one physics and one tally.
 
-    One call runs every cycle of the block: a call per environment and cycle, which must pass
-    the record tuples' arrays in, cost the CPU a third of its time in reference counting."""
-    body, shoulder, elbow, body_start = world.body, world.shoulder, world.elbow, world.body_start
-    object_xy, edge_x, edge_y = world.object_xy, world.edge_x, world.edge_y
-    motor_table, use_table = policy.motor_table, policy.use_table
+    One call runs every cycle of the block, with every array taken out of its tuple once, by
+    position (docs/speed.md): a call per environment and cycle made the CPU's trials 1.5x
+    slower; and numba loses writes to arrays reached through a namedtuple's field names inside
+    a prange body (numba/numba#7135), which this body is on the CPU, while unpacking by
+    position is safe there and spares the function of its own that cost 7% (1.4x with the
+    behaviour record)."""
+    body, body_start, shoulder, elbow, object_xy, edge_x, edge_y = world
+    weights, _, layers, _, motor_table, use_table = policy
+    t_body, t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated, t_motor, _ = trace
+    b_pre_contact, b_fixated, b_values, b_hand, b_counts, b_high, b_low = behaviour
+    fitness, latency, separations = tally
     n_inputs = senses.shape[0]
     motor_rows = buffer.shape[0] - N_MOTOR
     for m in range(buffer.shape[1]):
-        start_tally(first + m, cycles, tally)
+        start_tally(first + m, cycles, fitness, latency, separations)
     for t in range(cycles + 1):
         for m in range(buffer.shape[1]):
             i = first + m
@@ -416,7 +411,7 @@ def run_block_trials(first, network, world, geo, policy, cycles, buffer, total, 
                                                       geo, body_start[i])
                 if record_trace:
                     for u in range(N_MOTOR):
-                        trace.motor[t - 1, i, u] = motor[u]
+                        t_motor[t - 1, i, u] = motor[u]
             touched_before = buffer[n_inputs - 1, m] > 0.5    # the last cycle's touch sense
             seen, gap, hx, hy = sense(body[i], shoulder[i], elbow[i], object_xy[i, 0],
                                       object_xy[i, 1], geo, edge_x, edge_y, senses)
@@ -424,32 +419,34 @@ def run_block_trials(first, network, world, geo, policy, cycles, buffer, total, 
                 buffer[j, m] = senses[j]
             touching = senses[n_inputs - 1] > 0.5
             if t > 0:
-                tally_contact(t, i, touching, touched_before, tally)
+                tally_contact(t, i, touching, touched_before, fitness, latency, separations)
             if record_trace:
                 record_row(t, i, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
-                           trace)
+                           t_body, t_shoulder, t_elbow, t_hand, t_gap, t_touch, t_fixated)
             if record_behaviour:
                 tally_row(t, i, m, body[i], shoulder[i], elbow[i], touching, seen, gap, hx, hy,
-                          motor, last_angles, last_gap, touched, behaviour)
+                          motor, last_angles, last_gap, touched, b_pre_contact, b_fixated,
+                          b_values, b_hand, b_counts, b_high, b_low)
         if t < cycles and not use_table:
-            forward_block(buffer, policy.weights[network], policy.layers, total)
+            forward_block(buffer, weights[network], layers, total)
 
 
 @numba.njit(cache=True, inline="always")
-def start_tally(i, cycles, tally):
-    """Environment i's counts before its trial: no contact, latency the trial length."""
-    tally.fitness[i], tally.latency[i], tally.separations[i] = 0, cycles, 0
+def start_tally(i, cycles, fitness, latency, separations):
+    """Environment i's counts (a Tally's arrays) before its trial: no contact, latency the trial
+    length."""
+    fitness[i], latency[i], separations[i] = 0, cycles, 0
 
 
 @numba.njit(cache=True, inline="always")
-def tally_contact(t, i, touching, touched_before, tally):
+def tally_contact(t, i, touching, touched_before, fitness, latency, separations):
     """Count cycle t's contact (t >= 1) into environment i's counts, as
     TrialMeasures.from_contact defines them (tests/core/test_trials.py holds them equal): a
     separation is a cycle without contact after one with it, so a trial that starts in contact
     has not separated when its first cycle leaves it."""
     if touching:
-        tally.fitness[i] += 1
-        if tally.fitness[i] == 1:
-            tally.latency[i] = t
+        fitness[i] += 1
+        if fitness[i] == 1:
+            latency[i] = t
     elif touched_before and t > 1:
-        tally.separations[i] += 1
+        separations[i] += 1

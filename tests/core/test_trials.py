@@ -65,11 +65,26 @@ def test_compiled_tally_counts_as_the_contact_history_defines():
     touch = rng.random((cycles + 1, n)) < rng.uniform(0, 1, n)      # rows 0..cycles
     tally = Tally.empty(n)
     for i in range(n):
-        start_tally(i, cycles, tally)
+        start_tally(i, cycles, *tally)
         for t in range(1, cycles + 1):
-            tally_contact(t, i, touch[t, i], touch[t - 1, i], tally)
+            tally_contact(t, i, touch[t, i], touch[t - 1, i], *tally)
     expected = TrialMeasures.from_contact(touch[1:])
     found = TrialMeasures.from_tally(tally)
     assert touch[0].any() and not expected.success.all() and expected.separations.any()
     for field in vars(expected):
         np.testing.assert_array_equal(getattr(found, field), getattr(expected, field), field)
+
+
+def test_the_compiled_loop_unpacks_the_tuples_in_their_field_order():
+    """trials.run_block_trials takes its tuples apart by position (numba loses writes through
+    field names inside a parallel loop): a reordered field would be read as another."""
+    from econet_ros.trials import BehaviourRecord, Policy, Trace, WorldArrays
+    assert WorldArrays._fields == ("body", "body_start", "shoulder", "elbow", "object_xy",
+                                   "edge_x", "edge_y")
+    assert Policy._fields[::2] == ("weights", "layers", "motor_table")
+    assert Policy._fields[5] == "use_table"
+    assert Trace._fields == ("body", "shoulder", "elbow", "hand", "hand_object_distance",
+                             "touch", "fixated", "motor", "object_xy")
+    assert BehaviourRecord._fields == ("pre_contact", "fixated", "values", "hand", "counts",
+                                       "angle_high", "angle_low")
+    assert Tally._fields == ("fitness", "latency", "separations")
