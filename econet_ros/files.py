@@ -1,7 +1,7 @@
 """Writing files so that nothing finished is lost, and reading them back with one-line errors:
 a folder's lock against a second writer, atomic replacement, rows appended and synced one by one
 (CSV tables, .npy rows written in place), and full-disk or damage reported in one line naming the
-file. Used by the run folders (runs.py), the study, sweeps, bags, the CLI and the supervisor;
+file. Used by the run folders (run_folders.py), the study, sweeps, bags, the CLI and the supervisor;
 knows nothing of what the files hold. ROS-free."""
 from __future__ import annotations
 

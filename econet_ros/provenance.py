@@ -1,6 +1,6 @@
 """Which code made a result: the commit of the checkout this package runs from and whether its
 tree had uncommitted changes, the versions of Python and of the packages that make the numbers,
-and the time. Run folders record it for every session that writes into them (runs.py,
+and the time. Run folders record it for every session that writes into them (run_folders.py,
 provenance.json); reports name it (made_with), and a pre-registered sweep's summary checks that
 its registration commit precedes every run's commit (registration).
 
@@ -123,7 +123,7 @@ def named(commits: str, dirty: bool | None) -> str:
 
 def made_with(runs: list[tuple[str, bool | None]], registrations: list[str] = ()) -> str:
     """The line near a report's top on its code: the code that made the report, the code that
-    made its runs ((commits, dirty) per run, as runs.run_code gives them), then the sentences
+    made its runs ((commits, dirty) per run, as run_folders.run_code gives them), then the sentences
     on any registration (registration)."""
     me = code()
     counts = Counter(named(commits, dirty) for commits, dirty in runs).most_common()

@@ -9,7 +9,8 @@ from ..devices import make_evaluator
 from ..errors import UsageError
 from ..evolution import Evaluator
 from ..plugins import resolve
-from ..runs import CONTROLLER_FILE, controller_record, run_condition, writing_into
+from ..run_folders import CONTROLLER_FILE, controller_record, writing_into
+from ..runs import run_condition
 from .options import add_config_options, add_device_option, add_run_options, config_from
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..devices import require_device
 from ..errors import UsageError
-from ..runs import writing_into
+from ..run_folders import writing_into
 from ..science.report import build_report, report_paths
 from ..science.study import OPTIMIZER_VARIANTS, SENSITIVITY, STUDY_RESULTS, StudySpec, run_study
 from .options import (add_config_options, add_device_option, add_run_options, config_from,

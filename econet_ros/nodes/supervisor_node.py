@@ -35,7 +35,8 @@ from ..errors import ConfigError
 from ..evolution import GenerationResult
 from ..plugins import EXTERNAL, chosen_controller, resolve
 from ..files import ensure_writable
-from ..runs import controller_record, run_condition, run_folder, writing_into
+from ..run_folders import controller_record, run_folder, writing_into
+from ..runs import run_condition
 from . import graph
 from .graph_evaluator import GraphEvaluator
 from .runner import Param, declare_parameters, default_from, node_config, run_node

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..config import Config
-from ..runs import RunData
+from ..run_folders import RunData
 from . import holding
 from .measures import ReachSummary
 from .series import Windows, nanmean, per_run, smooth

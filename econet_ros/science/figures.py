@@ -14,7 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..files import writing  # noqa: E402
-from ..runs import RunData, replay  # noqa: E402
+from ..run_folders import RunData  # noqa: E402
+from ..runs import replay  # noqa: E402
 from .lesion import LESION_TRIALS  # noqa: E402
 from .measures import CHANCE, body_frame, reach_starts  # noqa: E402
 from .series import nanmean, nanstd, per_run  # noqa: E402

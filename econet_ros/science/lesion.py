@@ -10,7 +10,7 @@ from ..config import Config
 from ..controllers import FeedForwardNetwork
 from ..evolution import genome_weights, rng_for, select_parents
 from ..plugins import make_controller
-from ..runs import RunData
+from ..run_folders import RunData
 from ..trials import Trace, run_trials
 from ..world import TrialSetup, World, sample_setups
 from .measures import summarize_reaches

@@ -30,7 +30,7 @@ from ..files import write_atomically
 from ..reference import evolution as ref_evolution
 from ..reference import model as ref
 from ..reference.partings import boundary_kind, first_parting
-from ..runs import RunData, read_controller_record
+from ..run_folders import RunData, read_controller_record
 from ..world import TrialSetup, World
 from . import holding
 from .sweeps.spec import load_sweep

@@ -3,7 +3,7 @@ per-generation behaviour statistics, optional sensitivity variants, then the rep
 
 Folder layout (OUT = --out):
     OUT/study.json                    format tag, base config, runs, seed, variants
-    OUT/<condition>/run-NN/           a run folder (econet_ros.runs) plus behaviour.csv: one row
+    OUT/<condition>/run-NN/           a run folder (run_folders.py) plus behaviour.csv: one row
                                       per finished generation (measures.BEHAVIOUR_COLUMNS)
     OUT/sensitivity/<variant>/<condition>/run-NN/   the same for each sensitivity variant
                                       (and the optimizer variants: normal only, --runs runs)
@@ -31,8 +31,8 @@ from ..errors import ResultsError
 from ..evolution import Evaluator, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
-from ..runs import (METRIC_COLUMNS, RunData, evolve_into, finished_generations, replay,
-                    run_code, run_folder)
+from ..run_folders import METRIC_COLUMNS, RunData, finished_generations, run_code, run_folder
+from ..runs import evolve_into, replay
 from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
@@ -170,7 +170,7 @@ def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path
 
 
 def run_codes(spec: StudySpec, out: Path) -> list[tuple[str, bool | None]]:
-    """The code that made each run the study folder holds (runs.run_code)."""
+    """The code that made each run the study folder holds (run_folders.run_code)."""
     return [run_code(folder) for *_, folder in study_tasks(spec, out)
             if (folder / "run.json").exists()]
 

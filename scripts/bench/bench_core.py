@@ -15,7 +15,7 @@ NUMBA_NUM_THREADS=1 gives their cost with one numba thread per node.
 --against REV compares this checkout with the commit REV in one run: whole paper-size commands
 alternated, each side's median, min and max, the ratio and the load average, and whether both
 wrote the same results (scripts/bench/against.py). Run it before merging any change to a module
-in econet_ros.KERNEL_MODULES or to runs.py, evolution.py or trials.py.
+in econet_ros.KERNEL_MODULES or to runs.py, run_folders.py, evolution.py or trials.py.
 """
 from __future__ import annotations
 

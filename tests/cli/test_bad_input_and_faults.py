@@ -19,12 +19,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from econet_ros import runs
+from econet_ros import run_folders
 from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.errors import UsageError
 from econet_ros.files import locked
-from econet_ros.runs import RunData, RunStore, evolve_into
+from econet_ros.run_folders import RunData, RunStore
+from econet_ros.runs import evolve_into
 from econet_ros.science import report as report_module
 from econet_ros.science.study import StudySpec, load_study, run_study
 
@@ -347,7 +348,7 @@ def test_a_run_folder_is_locked_while_a_run_writes_it(tmp_path, reference):
 # -- kills in the middle of a write -------------------------------------------------------------
 CHILD = """
 import os, signal, sys
-import econet_ros.runs as runs
+import econet_ros.run_folders as run_folders
 def die():
     os.kill(os.getpid(), signal.SIGKILL)
 {patch}
@@ -357,23 +358,23 @@ sys.exit(main(sys.argv[1:]))
 KILL_POINTS = {
     # the 9th row written: after generation 2's offspring, before its fitness
     "mid-arrays": """
-write, calls = runs.RowWriter.write, []
+write, calls = run_folders.RowWriter.write, []
 def write_or_die(self, row, values):
     calls.append(row)
     if len(calls) == 9:
         die()
     write(self, row, values)
-runs.RowWriter.write = write_or_die
+run_folders.RowWriter.write = write_or_die
 """,
     "mid-metrics-row": """
-append = runs.append_row
+append = run_folders.append_row
 def append_or_die(path, values):
     if path.name == "metrics.csv" and values[0] == 2:
         with open(path, "a") as handle:
             handle.write("2,1,0.")
         die()
     append(path, values)
-runs.append_row = append_or_die
+run_folders.append_row = append_or_die
 """,
     "before-run-json-rename": """
 replace = os.replace
@@ -470,7 +471,7 @@ def test_a_simulated_full_disk_at_the_start_leaves_no_arrays(tmp_path, capsys, m
     size = sum(np.load(array, mmap_mode="r").nbytes for array in reference["tiny"].glob("*.npy"))
     assert f"the run's arrays need {size:,} bytes" in err
     assert not list(out.rglob("*.npy"))
-    assert runs.finished_generations(out / "run-01") == 0
+    assert run_folders.finished_generations(out / "run-01") == 0
 
 
 def test_a_resume_onto_a_full_disk_is_one_line_and_changes_nothing(tmp_path, capsys,

@@ -5,7 +5,7 @@ import sys
 
 
 from econet_ros.cli import main
-from econet_ros.runs import RunData
+from econet_ros.run_folders import RunData
 
 
 def test_results_with_other_settings_are_not_overwritten_silently(tmp_path, capsys):

@@ -10,7 +10,8 @@ from econet_ros.config import Config, ConfigError
 from econet_ros.errors import ResultsError
 from econet_ros.evolution import InProcessEvaluator, genome_weights
 from econet_ros.optimizers import centred_ranks, fold_into_range
-from econet_ros.runs import RunData, replay, run_condition
+from econet_ros.run_folders import RunData
+from econet_ros.runs import replay, run_condition
 
 TINY = ["--population", "10", "--parents", "2", "--trials", "3", "--cycles", "20"]
 

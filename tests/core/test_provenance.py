@@ -15,7 +15,7 @@ import pytest
 from econet_ros import provenance
 from econet_ros.cli import main
 from econet_ros.provenance import UNKNOWN, git_state, made_with, registration
-from econet_ros.runs import PROVENANCE_FILE, read_sessions, run_code
+from econet_ros.run_folders import PROVENANCE_FILE, read_sessions, run_code
 
 REPO = Path(__file__).resolve().parents[2]
 TINY = ["--runs", "1", "--population", "4", "--parents", "2", "--trials", "2", "--cycles", "5",

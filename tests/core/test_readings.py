@@ -11,7 +11,7 @@ from econet_ros import genome
 from econet_ros.cli import main
 from econet_ros.config import Config, ModelConfig
 from econet_ros.errors import ConfigError, SetupError
-from econet_ros.runs import RunData
+from econet_ros.run_folders import RunData
 from econet_ros.world import TrialSetup, World, sample_setups
 
 # -- the genome code ----------------------------------------------------------------------------

@@ -14,8 +14,9 @@ from econet_ros.errors import ResultsError, UsageError, options_as_parameters
 from econet_ros.evolution import InProcessEvaluator
 from econet_ros.files import locked
 from econet_ros.plugins import make_controller
-from econet_ros.runs import (CONTROLLER_FILE, RunData, controller_record, read_sessions, replay,
-                             run_condition, writing_into)
+from econet_ros.run_folders import (CONTROLLER_FILE, RunData, controller_record, read_sessions,
+                                    writing_into)
+from econet_ros.runs import replay, run_condition
 
 
 def small_config(**changes):

@@ -9,7 +9,8 @@ from cuda_helpers import needs_numba_cuda
 import econet_ros
 from econet_ros.cli import main
 from econet_ros.config import Config
-from econet_ros.runs import evolve_into, run_folder
+from econet_ros.run_folders import run_folder
+from econet_ros.runs import evolve_into
 
 TINY = ["--runs", "2", "--population", "4", "--parents", "2", "--trials", "3", "--cycles", "8",
         "--generations", "3", "--quiet"]

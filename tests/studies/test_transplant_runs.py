@@ -12,7 +12,8 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.evolution import initial_genomes
-from econet_ros.runs import RunData, evolve_into
+from econet_ros.run_folders import RunData
+from econet_ros.runs import evolve_into
 from econet_ros.science import holding
 from econet_ros.studies import transplant
 from sweep_helpers import evolved_sweep

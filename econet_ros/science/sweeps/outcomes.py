@@ -14,7 +14,7 @@ import numpy as np
 from ...config import Config
 from ...errors import ResultsError
 from ...files import table_rows
-from ...runs import RunData, run_code
+from ...run_folders import RunData, run_code
 from .. import holding
 from ..measures import BEHAVIOUR_COLUMNS
 from .plan import SweepSpec
@@ -100,7 +100,7 @@ def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:
     """One row per (cell, condition, seed): the network's weights and the mutational load of a
     copy, the outcomes in each window (NaN for a missing or unfinished run, which the row's
     `generations_done` shows), whether the run holds (holding.py), and the code that made it:
-    its commits and whether any ran with uncommitted changes (runs.run_code; empty for a run
+    its commits and whether any ran with uncommitted changes (run_folders.run_code; empty for a run
     from before run folders recorded them)."""
     rows = []
     for run in sorted(spec.runs(), key=lambda r: (r.cell, r.condition, r.seed)):

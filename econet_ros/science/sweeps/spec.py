@@ -46,7 +46,7 @@ from typing import Any
 from ...config import CONDITIONS, SETTINGS, Config
 from ...errors import ConfigError, ResultsError
 from ...provenance import COMMIT
-from ...runs import RunData
+from ...run_folders import RunData
 from .plan import FORMAT, Cell, Run, SweepSpec
 from .rules import REGISTERED, known_rules, named_rule
 

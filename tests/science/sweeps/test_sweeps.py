@@ -19,7 +19,7 @@ import pytest
 
 from econet_ros.cli import main
 from econet_ros.provenance import code
-from econet_ros.runs import PROVENANCE_FILE, read_sessions
+from econet_ros.run_folders import PROVENANCE_FILE, read_sessions
 from econet_ros.science.study import run_with_behaviour
 from econet_ros.science.sweeps.spec import load_spec
 
