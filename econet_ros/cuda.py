@@ -24,8 +24,8 @@ from .evolution import (BatchEvaluator, GenerationRequest, GenerationResult, gen
                         genome_weights, noise_seed, score_generation)
 from .plugins import make_controller
 from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Tally, Trace,
-                     TrialMeasures, WorldArrays)
-from .world import Geometry, TrialSetup, check_setup
+                     TrialMeasures)
+from .world import Geometry, TrialSetup, WorldArrays, check_setup
 
 
 def load_kernels():

@@ -24,8 +24,8 @@ from numba import typeof
 
 from .config import Config
 from .plugins import make_controller
-from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, Tally, WorldArrays, run_block_trials
-from .world import N_MOTOR, Geometry
+from .trials import NO_BEHAVIOUR, NO_TRACE, Policy, Tally, run_block_trials
+from .world import N_MOTOR, Geometry, WorldArrays
 
 if not hasattr(np, "row_stack"):       # numba-cuda 0.30.4 names it at import; NumPy 2.5 has not
     np.row_stack = np.vstack

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from .controllers import CompiledPolicy, Controller, forward_block
-from .world import N_MOTOR, TrialSetup, World, move, sense
+from .world import N_MOTOR, TrialSetup, World, WorldArrays, move, sense
 
 
 @dataclass
@@ -214,25 +214,6 @@ def run_trials(world: World, controller: Controller, setup: TrialSetup, cycles: 
     return TrialMeasures.from_contact(contact), trace
 
 
-class WorldArrays(NamedTuple):
-    """The world's per-environment arrays the compiled loop moves and senses (host arrays, or
-    device arrays for econet_ros.cuda)."""
-
-    body: np.ndarray
-    body_start: np.ndarray
-    shoulder: np.ndarray
-    elbow: np.ndarray
-    object_xy: np.ndarray
-    edge_x: np.ndarray          # the visual windows' edges (World.edges)
-    edge_y: np.ndarray
-
-    @classmethod
-    def of(cls, world: World) -> "WorldArrays":
-        return cls(body=world.body, body_start=world.body_start, shoulder=world.shoulder,
-                   elbow=world.elbow, object_xy=world.object_xy, edge_x=world.edges[0],
-                   edge_y=world.edges[1])
-
-
 class Policy(NamedTuple):
     """A CompiledPolicy as the compiled loop takes it: a motor table or the networks."""
 
@@ -363,7 +344,7 @@ def _run_compiled(world, geo, policy, cycles, tally, trace, behaviour, record_tr
                   record_behaviour):
     """Whole trials, one block of environments that share a network per thread, each block with
     scratch arrays of its own; the trace and the behaviour record are written when asked for.
-    world: WorldArrays, geo: world.Geometry, policy: Policy, tally: Tally."""
+    world: world.WorldArrays, geo: world.Geometry, policy: Policy, tally: Tally."""
     block, buffer_size, n_inputs = policy.block, policy.buffer_size, geo.n_inputs
     for k in numba.prange(world.body.shape[0] // block):
         run_block_trials(k * block, k, world, geo, policy, cycles,

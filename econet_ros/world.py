@@ -223,6 +223,25 @@ class Geometry(NamedTuple):
         return np.cos(angles), np.sin(angles)
 
 
+class WorldArrays(NamedTuple):
+    """The world's per-environment arrays the compiled loop moves and senses (host arrays, or
+    device arrays for econet_ros.cuda)."""
+
+    body: np.ndarray
+    body_start: np.ndarray
+    shoulder: np.ndarray
+    elbow: np.ndarray
+    object_xy: np.ndarray
+    edge_x: np.ndarray          # the visual windows' edges (World.edges)
+    edge_y: np.ndarray
+
+    @classmethod
+    def of(cls, world: World) -> "WorldArrays":
+        return cls(body=world.body, body_start=world.body_start, shoulder=world.shoulder,
+                   elbow=world.elbow, object_xy=world.object_xy, edge_x=world.edges[0],
+                   edge_y=world.edges[1])
+
+
 class World:
     """A batch of n econet environments advanced in lockstep, one cycle per ``step``."""
 

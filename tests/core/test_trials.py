@@ -78,7 +78,8 @@ def test_compiled_tally_counts_as_the_contact_history_defines():
 def test_the_compiled_loop_unpacks_the_tuples_in_their_field_order():
     """trials.run_block_trials takes its tuples apart by position (numba loses writes through
     field names inside a parallel loop): a reordered field would be read as another."""
-    from econet_ros.trials import BehaviourRecord, Policy, Trace, WorldArrays
+    from econet_ros.trials import BehaviourRecord, Policy, Trace
+    from econet_ros.world import WorldArrays
     assert WorldArrays._fields == ("body", "body_start", "shoulder", "elbow", "object_xy",
                                    "edge_x", "edge_y")
     assert Policy._fields[::2] == ("weights", "layers", "motor_table")
