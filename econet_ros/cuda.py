@@ -25,7 +25,7 @@ from .evolution import (BatchEvaluator, GenerationRequest, GenerationResult, gen
 from .plugins import make_controller
 from .trials import (NO_BEHAVIOUR, NO_TRACE, BehaviourRecord, Policy, Record, Tally, Trace,
                      TrialMeasures)
-from .world import Geometry, TrialSetup, WorldArrays, check_setup
+from .world import Geometry, TrialSetup, WorldArrays
 
 
 def load_kernels():
@@ -115,19 +115,11 @@ class CudaEngine:
                               motor_table=self._to_device(np.ascontiguousarray(table)))
 
     def _start_state(self, setups: Sequence[TrialSetup]) -> WorldArrays:
-        """The world's arrays at the trials' start, all populations side by side (starts are
-        checked as World.reset checks them)."""
+        """The world's arrays at the trials' start, all populations side by side."""
         for setup in setups:
             if len(setup) != self.n_envs:
                 raise ValueError(f"expected {self.n_envs} trial starts, got {len(setup)}")
-            check_setup(setup, self.config.model)
-        body = np.concatenate([np.asarray(s.body, dtype=np.float64) for s in setups])
-        return WorldArrays(
-            body=body, body_start=body.copy(),
-            shoulder=np.concatenate([np.asarray(s.shoulder, np.float64) for s in setups]),
-            elbow=np.concatenate([np.asarray(s.elbow, np.float64) for s in setups]),
-            object_xy=np.concatenate([np.asarray(s.object_xy, np.float64) for s in setups]),
-            edge_x=self.edges[0], edge_y=self.edges[1])
+        return WorldArrays.start(TrialSetup.joined(setups), self.config.model, self.edges)
 
     def _tuple_to_device(self, arrays):
         return type(arrays)(*(self._to_device(a) for a in arrays))

@@ -41,8 +41,8 @@ Observation space (``Observation``)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import NamedTuple
+from dataclasses import dataclass, fields
+from typing import NamedTuple, Sequence
 
 import numba
 import numpy as np
@@ -98,6 +98,13 @@ class TrialSetup:
     def take(self, index: np.ndarray) -> "TrialSetup":
         return TrialSetup(self.object_xy[index], self.body[index], self.shoulder[index],
                           self.elbow[index])
+
+    @classmethod
+    def joined(cls, setups: Sequence["TrialSetup"]) -> "TrialSetup":
+        """Several batches' starts side by side, in order: many populations tested as one
+        batch (cuda.CudaEngine's launch)."""
+        return cls(*(np.concatenate([getattr(setup, field.name) for setup in setups])
+                     for field in fields(cls)))
 
 
 def sample_setups(rng: np.random.Generator, n: int, model: ModelConfig) -> TrialSetup:
@@ -236,6 +243,18 @@ class WorldArrays(NamedTuple):
     edge_y: np.ndarray
 
     @classmethod
+    def start(cls, setup: TrialSetup, model: ModelConfig, edges) -> "WorldArrays":
+        """The arrays at the start of the trials ``setup`` (checked by check_setup) with the
+        windows' ``edges``: the one start state of World.reset and of a GPU launch."""
+        check_setup(setup, model)
+        body = np.array(setup.body, dtype=np.float64)
+        return cls(body=body, body_start=body.copy(),
+                   shoulder=np.array(setup.shoulder, dtype=np.float64),
+                   elbow=np.array(setup.elbow, dtype=np.float64),
+                   object_xy=np.array(setup.object_xy, dtype=np.float64),
+                   edge_x=edges[0], edge_y=edges[1])
+
+    @classmethod
     def of(cls, world: World) -> "WorldArrays":
         return cls(body=world.body, body_start=world.body_start, shoulder=world.shoulder,
                    elbow=world.elbow, object_xy=world.object_xy, edge_x=world.edges[0],
@@ -263,12 +282,8 @@ class World:
         that cannot be run as given raise SetupError (see check_setup)."""
         if len(setup) != self.n_envs:
             raise SetupError(f"reset needs {self.n_envs} trial setups, got {len(setup)}")
-        check_setup(setup, self.model)
-        self.body = np.array(setup.body, dtype=np.float64)
-        self.body_start = self.body.copy()
-        self.shoulder = np.array(setup.shoulder, dtype=np.float64)
-        self.elbow = np.array(setup.elbow, dtype=np.float64)
-        self.object_xy = np.array(setup.object_xy, dtype=np.float64)
+        start = WorldArrays.start(setup, self.model, self.edges)
+        self.body, self.body_start, self.shoulder, self.elbow, self.object_xy = start[:5]
         self.cycle = 0
         self.refresh()
         return self.observe()
