@@ -49,7 +49,7 @@ class TestedBatch:
     body: np.ndarray                  # (populations, n_envs) final body axis, degrees
     shoulder: np.ndarray              # (populations, n_envs)
     elbow: np.ndarray                 # (populations, n_envs)
-    record: Trace | BehaviourRecord | None    # of a batch of one population, when asked for
+    records: list[Trace | BehaviourRecord | None]   # one per population (None: not asked for)
 
 
 class CudaEngine:
@@ -73,9 +73,7 @@ class CudaEngine:
                          noise_seeds: Sequence[int], record: Record = False) -> TestedBatch:
         """Test population p's (econets, n_weights) ``weights[p]`` on its trial starts
         ``setups[p]`` (with movement noise ``noise_seeds[p]``), every population in one launch;
-        ``record`` (trials.run_trials's) only for a batch of one."""
-        if record and len(weights) != 1:
-            raise ValueError("records are kept for a batch of one population only")
+        ``record`` (trials.run_trials's) is kept for each population."""
         policies = [self._policy(w, seed) for w, seed in zip(weights, noise_seeds)]
         state = self._start_state(setups)
         cycles = self.config.evolution.cycles
@@ -92,12 +90,18 @@ class CudaEngine:
         found = Tally(*(self._to_host(a).reshape(shape) for a in on_device[1]))
         final = [self._to_host(getattr(on_device[0], name)).reshape(shape)
                  for name in ("body", "shoulder", "elbow")]
-        kept = None
-        if record:
-            kept = type(trace if record is True else behaviour)(
-                *(self._to_host(a) for a in on_device[2 if record is True else 3]))
+        kept = on_device[2] if record is True else on_device[3] if record else None
         return TestedBatch([TrialMeasures.from_tally(Tally(*(a[p] for a in found)))
-                            for p in range(len(weights))], *final, kept)
+                            for p in range(len(weights))], *final,
+                           self._records(kept, len(weights)))
+
+    def _records(self, on_device, populations: int) -> list[Trace | BehaviourRecord | None]:
+        """Each population's part of a launch's record (None each when none was kept)."""
+        if on_device is None:
+            return [None] * populations
+        joined = type(on_device)(*(self._to_host(a) for a in on_device))
+        return [joined.part(slice(p * self.n_envs, (p + 1) * self.n_envs))
+                for p in range(populations)]
 
     def _policy(self, weights: np.ndarray, seed: int) -> Policy:
         """A population's policy as trials.run_trials runs it (host arrays)."""
@@ -159,7 +163,7 @@ class CudaEvaluator(BatchEvaluator):
 
     def test_generations(self, requests: Sequence[GenerationRequest],
                          record: Record = False) -> list[GenerationResult]:
-        """Every request's generation in one launch (a record: for a batch of one only)."""
+        """Every request's generation in one launch, each result with its own record."""
         self.last = self.engine.test_populations(
             [genome_weights(self.config, genomes) for genomes, *_ in requests],
             [self.trial_setups(seed, run, generation) for _, seed, run, generation in requests],
@@ -167,5 +171,6 @@ class CudaEvaluator(BatchEvaluator):
         results = [score_generation(self.config, generation, genomes, measures)
                    for (genomes, _, _, generation), measures in zip(requests,
                                                                     self.last.measures)]
-        results[0].trace = self.last.record
+        for result, kept in zip(results, self.last.records):
+            result.trace = kept
         return results

@@ -93,6 +93,12 @@ class Trace(NamedTuple):
                    touch=np.zeros((rows, n), dtype=bool), fixated=np.zeros((rows, n), dtype=bool),
                    motor=np.zeros((cycles, n, N_MOTOR)), object_xy=np.array(object_xy))
 
+    def part(self, envs: slice) -> "Trace":
+        """The trace of the environments ``envs`` alone (one population of a batch)."""
+        return Trace(*(np.ascontiguousarray(values[envs] if name == "object_xy"
+                                            else values[:, envs])
+                       for name, values in self._asdict().items()))
+
 
 MOVE_EPS = 1e-9           # distance changes smaller than this are "no movement"
 MOVING_DEG = 0.5          # a joint "moves" in a cycle when its angle changes by more than this
@@ -144,6 +150,12 @@ class BehaviourRecord(NamedTuple):
                    hand=np.empty((cycles + 1, n, 2)),
                    counts=np.zeros((len(PRE_CONTACT_COUNTS), n), dtype=np.int64),
                    angle_high=np.full((3, n), -np.inf), angle_low=np.full((3, n), np.inf))
+
+    def part(self, envs: slice) -> "BehaviourRecord":
+        """The record of the environments ``envs`` alone (one population of a batch)."""
+        return BehaviourRecord(*(np.ascontiguousarray(values[:, :, envs] if name == "values"
+                                                      else values[:, envs])
+                                 for name, values in self._asdict().items()))
 
     def pooled(self, top: np.ndarray) -> dict[str, np.ndarray]:
         """The sequences the behaviour row averages, each in the order a boolean mask over
