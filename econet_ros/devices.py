@@ -14,6 +14,7 @@ from .evolution import Evaluator, InProcessEvaluator
 
 DEVICES = ("cpu", "cuda")
 GPUS_PER_RUN = {"cpu": 0.0, "cuda": 0.125}     # a sweep's Ray task: 8 runs share one GPU
+BATCHES_RUNS = {"cpu": False, "cuda": True}    # its evaluator tests many runs in one call
 
 
 def make_evaluator(config: Config, device: str = "cpu",
@@ -36,3 +37,10 @@ def require_device(device: str) -> None:
 def gpus_per_run(device: str) -> float:
     """The share of a GPU a Ray task evolving one run asks for on ``device``."""
     return GPUS_PER_RUN[device]
+
+
+def batches_runs(device: str) -> bool:
+    """Whether ``device``'s evaluator tests many runs' generations at once (a BatchEvaluator),
+    so that a command hands it all runs of one configuration together (runs.evolve_runs)
+    rather than one run to each worker."""
+    return BATCHES_RUNS[device]

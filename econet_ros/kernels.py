@@ -35,7 +35,7 @@ from .evolution import InProcessEvaluator
 from .nodes.lockstep_wire import SensorMessages
 from .plugins import make_controller
 from .runs import evolve_into
-from .science.study import run_with_behaviour
+from .science.study import evolve_with_behaviour
 from .world import World, sample_setups
 
 TINY = {"evolution.population": 4, "evolution.parents": 2, "evolution.trials": 2,
@@ -49,7 +49,8 @@ def warm_every_path() -> None:
             config = Config().replace(**TINY, **{"evolution.condition": condition})
             evaluator = InProcessEvaluator(config)
             evolve_into(Path(folder) / condition / "run-01", config, 1, 1, evaluator)
-            run_with_behaviour(config, 1, 1, Path(folder) / condition / "study-01", evaluator)
+            evolve_with_behaviour([(Path(folder) / condition / "study-01", 1)], config, 1,
+                                  evaluator)
             warm_per_cycle(config)
 
 

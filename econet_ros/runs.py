@@ -1,9 +1,10 @@
 """The one loop that fills run folders: ``evolve_into`` evolves (or resumes) a run into its
 folder with any evaluator (in process, through the ROS graph, on a GPU), each generation
 through the run's ``RunEvolution``; ``evolve_together`` advances several runs side by side with
-an evaluator that tests them all at once (the GPU's); ``run_condition`` does either for several
-runs with a progress bar; ``replay`` re-tests a stored generation. What a run folder holds, and
-how it is written and read, is run_folders.py's.
+an evaluator that tests them all at once (the GPU's); ``evolve_runs``, the one batching policy
+of every command, picks between the two; ``run_condition`` adds a progress bar; ``replay``
+re-tests a stored generation. What a run folder holds, and how it is written and read, is
+run_folders.py's.
 """
 from __future__ import annotations
 
@@ -25,6 +26,7 @@ from .trials import Record
 
 # -- the one generation loop ------------------------------------------------------------------
 OnGeneration = Callable[[GenerationResult, np.ndarray], None]
+RunOnGeneration = Callable[[int, GenerationResult, np.ndarray], None]    # told the run first
 
 
 def evolve_into(folder: Path, config: Config, seed: int, run: int,
@@ -56,22 +58,43 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
     return config.evolution.generations
 
 
+def evolve_runs(runs: list[tuple[Path, int]], config: Config, seed: int, evaluator: Evaluator,
+                on_generation: RunOnGeneration | None = None, record: Record = False,
+                on_open: Callable[[int, int], None] | None = None,
+                plugin: dict | None = None) -> None:
+    """Evolve (or resume) the runs ``(folder, run number)`` of one configuration, as every
+    command does: all together when ``evaluator`` tests many runs at once (a BatchEvaluator:
+    the GPU's, one launch a generation; evolve_together), else one after another (evolve_into);
+    the folders are the same either way. ``on_generation`` and ``on_open`` are evolve_into's,
+    told the run number first."""
+    if isinstance(evaluator, BatchEvaluator):
+        evolve_together(runs, config, seed, evaluator, on_generation, record, on_open, plugin)
+        return
+    for folder, run in runs:
+        evolve_into(folder, config, seed, run, evaluator,
+                    on_generation and functools.partial(on_generation, run), record,
+                    on_open and functools.partial(on_open, run), plugin=plugin)
+
+
 def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
-                    evaluator: BatchEvaluator,
-                    on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None
-                    = None, plugin: dict | None = None) -> None:
+                    evaluator: BatchEvaluator, on_generation: RunOnGeneration | None = None,
+                    record: Record = False, on_open: Callable[[int, int], None] | None = None,
+                    plugin: dict | None = None) -> None:
     """Evolve (or resume) the runs ``(folder, run number)`` side by side: each round every
     unfinished run's next generation (runs resumed at different generations included) is tested
-    in one call of ``evaluator.test_generations``, then each is bred and written as evolve_into
-    does it, so every folder is the one evolve_into writes; on_generation(run, result,
-    offspring) after each."""
+    in one call of ``evaluator.test_generations`` (each result with its own ``record``), then
+    each is bred and written as evolve_into does it, so every folder is the one evolve_into
+    writes; on_open(run, done) once each run is open, on_generation(run, result, offspring)
+    after each generation."""
     with ExitStack() as held:
         evolutions = [held.enter_context(RunEvolution(folder, config, seed, run,
                                                       evaluator.n_weights, plugin=plugin))
                       for folder, run in runs]
+        for evolution in evolutions if on_open else ():
+            on_open(evolution.run, evolution.generation)
         while active := [evolution for evolution in evolutions if not evolution.finished]:
             results = evaluator.test_generations([(e.genomes, seed, e.run, e.generation)
-                                                  for e in active])
+                                                  for e in active], record)
             for evolution, result in zip(active, results):
                 evolution.advance(result)
                 if on_generation:
@@ -122,15 +145,14 @@ class RunEvolution:
 
 def run_condition(config: Config, runs: int, seed: int, out: Path, progress: bool = True,
                   evaluator: Evaluator | None = None,
-                  on_generation: Callable[[int, GenerationResult, np.ndarray], None] | None = None,
+                  on_generation: RunOnGeneration | None = None,
                   plugin: dict | None = None) -> str:
-    """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN, resuming any that
-    were interrupted, calling on_generation(run, result, offspring) after each generation;
-    returns a short human-readable summary. An evaluator that tests many runs at once (a
-    BatchEvaluator: the GPU's) advances them all together (evolve_together), else they run one
-    after another (evolve_into); the folders are the same. ``plugin``: the controller record
-    of an evaluator that does not run the condition's network (every run folder is checked
-    against it before any is evolved)."""
+    """Evolve ``runs`` independent runs (numbered 1..runs) into out/run-NN (evolve_runs: all
+    together on an evaluator that tests many runs at once), resuming any that were
+    interrupted, calling on_generation(run, result, offspring) after each generation; returns a
+    short human-readable summary. ``plugin``: the controller record of an evaluator that does
+    not run the condition's network (every run folder is checked against it before any is
+    evolved)."""
     evaluator = evaluator or InProcessEvaluator(config)
     for run in range(1, runs + 1):
         check_controller(run_folder(out, run), plugin, config.evolution.condition)
@@ -144,13 +166,8 @@ def run_condition(config: Config, runs: int, seed: int, out: Path, progress: boo
             bar.set_postfix(run=run, top_fitness=f"{result.fitness[result.parents].mean():.0f}")
             bar.update()
 
-        if isinstance(evaluator, BatchEvaluator):
-            evolve_together([(run_folder(out, run), run) for run in range(1, runs + 1)], config,
-                            seed, evaluator, tick, plugin)
-        else:
-            for run in range(1, runs + 1):
-                evolve_into(run_folder(out, run), config, seed, run, evaluator,
-                            functools.partial(tick, run), plugin=plugin)
+        evolve_runs([(run_folder(out, run), run) for run in range(1, runs + 1)], config, seed,
+                     evaluator, tick, plugin=plugin)
     return summarize(out, runs)
 
 

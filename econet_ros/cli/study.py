@@ -25,9 +25,9 @@ def add_parser(commands) -> None:
                     "data. Re-running the same command resumes an interrupted study.")
     add_run_options(study, out="results/study")
     study.add_argument("--jobs", type=positive, default=len(os.sched_getaffinity(0)),
-                       help="worker processes, each evolving one run at a time (default: every "
-                            "CPU this process may use, %(default)s here; the results do not "
-                            "depend on it)")
+                       help="worker processes, each evolving one run at a time (on cuda: a "
+                            "condition's runs together) (default: every CPU this process may "
+                            "use, %(default)s here; the results do not depend on it)")
     add_device_option(study)
     study.add_argument("--sensitivity", metavar="VARIANT", action="append",
                        help="also run a sensitivity variant (hidden-4-4-8, hidden-8-8-16, "

@@ -26,13 +26,13 @@ from pathlib import Path
 import numpy as np
 
 from ..config import CONDITIONS, Config, ConfigError
-from ..devices import make_evaluator
+from ..devices import batches_runs, make_evaluator
 from ..errors import ResultsError
-from ..evolution import Evaluator, InProcessEvaluator
+from ..evolution import Evaluator, GenerationResult, InProcessEvaluator
 from ..files import (append_row, cut_table, read_json_object, start_table,
                      stored_whole_number, table_rows, write_atomically)
 from ..run_folders import METRIC_COLUMNS, RunData, finished_generations, run_code, run_folder
-from ..runs import evolve_into, replay
+from ..runs import evolve_runs, replay
 from .measures import BEHAVIOUR_COLUMNS, recorded_behaviour_row
 
 STUDY_FORMAT = "econet-study/1"
@@ -153,7 +153,10 @@ def conditions_for(variant_changes: dict | None) -> tuple[str, ...]:
     return tuple(needed)
 
 
-def study_tasks(spec: StudySpec, out: Path) -> list[tuple[Config, int, int, Path]]:
+StudyTask = tuple[Config, int, int, Path]        # config, seed, run number, run folder
+
+
+def study_tasks(spec: StudySpec, out: Path) -> list[StudyTask]:
     """(config, seed, run, run folder) of every run of the study, longest first."""
     tasks = []
     groups = [(Path(out), spec.config, None, spec.runs)]
@@ -175,34 +178,55 @@ def run_codes(spec: StudySpec, out: Path) -> list[tuple[str, bool | None]]:
             if (folder / "run.json").exists()]
 
 
-# -- one run, with behaviour rows ----------------------------------------------------------------
-def run_with_behaviour(config: Config, seed: int, run: int, run_dir: Path,
-                       evaluator: Evaluator | None = None) -> int:
-    """Evolve (or resume) one run into run_dir, writing behaviour.csv alongside metrics.csv.
-    Returns the number of generations finished."""
-    evaluator = evaluator or InProcessEvaluator(config)
-    trials = config.evolution.trials
-    path = Path(run_dir) / BEHAVIOUR_FILE
+# -- runs with behaviour rows -------------------------------------------------------------------
+class BehaviourRows:
+    """A run folder's behaviour.csv: one row per finished generation, appended as the run
+    evolves; on opening, cut back to the rows metrics.csv confirms, and the missing ones made
+    again by replaying the stored genomes with the same trials (runs.replay)."""
 
-    def record(result) -> None:
+    def __init__(self, run_dir: Path, trials: int):
+        self.run_dir, self.trials = Path(run_dir), trials
+        self.path = self.run_dir / BEHAVIOUR_FILE
+
+    def append(self, result: GenerationResult) -> None:
         row = recorded_behaviour_row(result.trace, result.measures, result.generation,
-                                     result.parents, trials)
-        append_row(path, [row[c] for c in BEHAVIOUR_COLUMNS])
+                                     result.parents, self.trials)
+        append_row(self.path, [row[c] for c in BEHAVIOUR_COLUMNS])
 
-    def repair(done: int) -> None:
+    def repair(self, done: int, evaluator: Evaluator) -> None:
         """Keep the rows metrics.csv confirms (a missing or damaged behaviour.csv is started
         again); replay the generations whose row is missing."""
         try:
-            kept = min(len(table_rows(path, BEHAVIOUR_COLUMNS)), done)
+            kept = min(len(table_rows(self.path, BEHAVIOUR_COLUMNS)), done)
         except ResultsError:
             kept = 0
-            start_table(path, BEHAVIOUR_COLUMNS)
-        cut_table(path, kept)
+            start_table(self.path, BEHAVIOUR_COLUMNS)
+        cut_table(self.path, kept)
         for generation in range(kept, done):
-            record(replay(run_dir, generation, "behaviour", evaluator))
+            self.append(replay(self.run_dir, generation, "behaviour", evaluator))
 
-    return evolve_into(run_dir, config, seed, run, evaluator, lambda result, _: record(result),
-                       record="behaviour", on_open=repair)
+
+def evolve_with_behaviour(runs: list[tuple[Path, int]], config: Config, seed: int,
+                          evaluator: Evaluator | None = None) -> None:
+    """Evolve (or resume) the runs ``(folder, run number)`` of one configuration, each writing
+    behaviour.csv alongside metrics.csv; an evaluator that tests many runs at once advances them
+    together (runs.evolve_runs), each run keeping its own behaviour record."""
+    evaluator = evaluator or InProcessEvaluator(config)
+    rows = {run: BehaviourRows(folder, config.evolution.trials) for folder, run in runs}
+    evolve_runs(runs, config, seed, evaluator, lambda run, result, _: rows[run].append(result),
+                "behaviour", lambda run, done: rows[run].repair(done, evaluator))
+
+
+def study_batches(tasks: list[StudyTask], device: str) -> list[list[StudyTask]]:
+    """The study's runs in the units one evaluator evolves: on a device that advances many runs
+    together (devices.batches_runs), all runs of one configuration (one condition's folder);
+    else one run each, so that workers share the runs out."""
+    if not batches_runs(device):
+        return [[task] for task in tasks]
+    batches: dict[Path, list[StudyTask]] = {}
+    for task in tasks:
+        batches.setdefault(task[3].parent, []).append(task)
+    return list(batches.values())
 
 
 def _worker_init() -> None:
@@ -213,9 +237,10 @@ def _worker_init() -> None:
         pass
 
 
-def _run_task(task, device: str = "cpu") -> int:
-    config, seed, run, run_dir = task
-    return run_with_behaviour(config, seed, run, run_dir, make_evaluator(config, device))
+def _run_batch(batch: list[StudyTask], device: str = "cpu") -> None:
+    config, seed = batch[0][:2]
+    evolve_with_behaviour([(run_dir, run) for _, _, run, run_dir in batch], config, seed,
+                          make_evaluator(config, device))
 
 
 def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True,
@@ -232,6 +257,7 @@ def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True,
         spec = spec.merged_with(StudySpec.load(out))
     write_atomically(stored, spec.to_json())
     tasks = study_tasks(spec, out)
+    batches = study_batches(tasks, device)
     total = sum(t[0].evolution.generations for t in tasks)
     started = time.time()
     with tqdm(total=total, initial=sum(finished_generations(t[3]) for t in tasks), unit="gen",
@@ -241,18 +267,19 @@ def run_study(spec: StudySpec, out: Path, jobs: int = 1, progress: bool = True,
             bar.refresh()
 
         if jobs <= 1:
-            for task in tasks:
-                bar.set_postfix_str(f"{task[0].evolution.condition} {task[3].parent.parent.name}"
-                                    f"/run {task[2]}")
-                _run_task(task, device)
+            for batch in batches:
+                config, _, _, run_dir = batch[0]
+                bar.set_postfix_str(f"{config.evolution.condition} {run_dir.parent.parent.name}"
+                                    f"/run {','.join(str(task[2]) for task in batch)}")
+                _run_batch(batch, device)
                 refresh()
         else:
-            _run_parallel(tasks, jobs, refresh, device)
+            _run_parallel(batches, jobs, refresh, device)
         refresh()
     return time.time() - started
 
 
-def _run_parallel(tasks, jobs: int, refresh, device: str) -> None:
+def _run_parallel(batches: list[list[StudyTask]], jobs: int, refresh, device: str) -> None:
     import multiprocessing
 
     previous = os.environ.get("NUMBA_NUM_THREADS")
@@ -260,7 +287,7 @@ def _run_parallel(tasks, jobs: int, refresh, device: str) -> None:
     try:
         with ProcessPoolExecutor(max_workers=jobs, initializer=_worker_init,
                                  mp_context=multiprocessing.get_context("spawn")) as pool:
-            pending = {pool.submit(_run_task, task, device) for task in tasks}
+            pending = {pool.submit(_run_batch, batch, device) for batch in batches}
             while pending:
                 finished, pending = wait(pending, timeout=1.0, return_when=FIRST_COMPLETED)
                 for future in finished:

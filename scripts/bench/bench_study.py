@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark of what a study adds to a bare run: the time of N paper-size generations evolved
-as ``econet study`` evolves them (science.study.run_with_behaviour: behaviour.csv included) over
-the time of the same generations evolved as ``econet evolve`` does (runs.evolve_into), same
+as ``econet study`` evolves them (science.study.evolve_with_behaviour: behaviour.csv included)
+over the time of the same generations evolved as ``econet evolve`` does (runs.evolve_into), same
 seed and settings, warm kernels, alternated within one process so that a busy machine slows
 both alike. The default is whole paper-size runs (200 generations, about 15 s a pair), the
 figure the target is about; the first few generations of a run are not a sample of it.
@@ -21,7 +21,7 @@ import numba
 from econet_ros.config import CONDITIONS, Config
 from econet_ros.evolution import InProcessEvaluator
 from econet_ros.runs import evolve_into
-from econet_ros.science.study import run_with_behaviour
+from econet_ros.science.study import evolve_with_behaviour
 
 
 def main() -> None:
@@ -35,7 +35,7 @@ def main() -> None:
                                  "evolution.generations": args.generations})
     evaluator = InProcessEvaluator(config)
     ways = {"bare": lambda folder: evolve_into(folder, config, 1, 1, evaluator),
-            "study": lambda folder: run_with_behaviour(config, 1, 1, folder, evaluator)}
+            "study": lambda folder: evolve_with_behaviour([(folder, 1)], config, 1, evaluator)}
     for way in ways.values():      # compile
         timed(way)
     seconds = {name: [] for name in ways}

@@ -1,5 +1,6 @@
 """--device cuda on the command line, under the simulator: the same result files as --device
-cpu, and a one-line error where numba-cuda or a GPU is missing."""
+cpu (evolve and study advancing a condition's runs together), and a one-line error where
+numba-cuda or a GPU is missing."""
 import sys
 from pathlib import Path
 
@@ -31,6 +32,30 @@ def test_evolve_on_cuda_writes_the_cpus_files(tmp_path, condition):
                      "--device", device, *TINY]) == 0
     on_cpu, on_cuda = files_of(tmp_path / "cpu"), files_of(tmp_path / "cuda")
     assert len(on_cpu) == 2 * 5 and on_cpu == on_cuda
+
+
+STUDY = [*TINY[:TINY.index("--generations")], "--generations", "2", "--quiet", "--jobs", "1"]
+
+
+@needs_numba_cuda
+def test_study_on_cuda_advances_each_conditions_runs_together_to_the_cpus_files(tmp_path,
+                                                                               monkeypatch):
+    """Every launch tests both runs of a condition, each keeping its own behaviour record."""
+    from econet_ros.cuda import CudaEvaluator
+    launches, test_generations = [], CudaEvaluator.test_generations
+
+    def counted(self, requests, record=False):
+        launches.append((len(requests), record))
+        return test_generations(self, requests, record)
+
+    monkeypatch.setattr(CudaEvaluator, "test_generations", counted)
+    for device in ("cpu", "cuda"):
+        (tmp_path / device).mkdir()
+        monkeypatch.chdir(tmp_path / device)        # the report names the folder: the same
+        assert main(["study", "--out", "study", "--device", device, *STUDY]) == 0
+    on_cpu, on_cuda = files_of(tmp_path / "cpu"), files_of(tmp_path / "cuda")
+    assert "study/random/run-02/behaviour.csv" in on_cpu and on_cpu == on_cuda
+    assert launches == [(2, "behaviour")] * 3 * 2
 
 
 def one_line_error(capsys, arguments) -> str:

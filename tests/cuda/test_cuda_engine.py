@@ -1,6 +1,6 @@
 """The CUDA engine against the CPU's, under the simulator, at tiny sizes: per-trial measures,
 final state, traces and behaviour records equal; many populations in one launch equal each
-alone."""
+alone, records included."""
 import importlib.util
 from pathlib import Path
 
@@ -10,8 +10,10 @@ from cuda_helpers import needs_numba_cuda
 
 from econet_ros.config import Config
 from econet_ros.cuda import CudaEngine, CudaEvaluator
-from econet_ros.evolution import InProcessEvaluator, genome_weights, initial_genomes
-from econet_ros.science.study import run_with_behaviour
+from econet_ros.devices import DEVICES, batches_runs, make_evaluator
+from econet_ros.evolution import (BatchEvaluator, InProcessEvaluator, genome_weights,
+                                  initial_genomes)
+from econet_ros.science.study import evolve_with_behaviour
 
 pytestmark = needs_numba_cuda
 
@@ -75,6 +77,22 @@ def test_many_populations_in_one_launch_equal_each_alone():
         assert cpu.world.shoulder.tobytes() == batch.shoulder[k].tobytes()
 
 
+@pytest.mark.parametrize("record", [True, "behaviour"])
+def test_many_populations_in_one_launch_keep_each_its_record(record):
+    config = tiny()
+    cpu, gpu = InProcessEvaluator(config), CudaEvaluator(config)
+    requests = [(initial_genomes(config, cpu.n_weights, 7, run), 7, run, 0) for run in (1, 2, 3)]
+    for request, together in zip(requests, gpu.test_generations(requests, record)):
+        alone = cpu.test_generation(*request, record)
+        for name, value in alone.trace._asdict().items():
+            assert np.array_equal(value, getattr(together.trace, name)), name
+
+
+@pytest.mark.parametrize("device", DEVICES)
+def test_the_devices_table_says_whose_evaluator_advances_runs_together(device):
+    assert batches_runs(device) == isinstance(make_evaluator(tiny(), device), BatchEvaluator)
+
+
 def test_the_gpu_benchmark_runs_under_the_simulator(capsys):
     path = Path(__file__).parents[2] / "scripts" / "bench" / "bench_cuda.py"
     spec = importlib.util.spec_from_file_location("bench_cuda", path)
@@ -88,6 +106,6 @@ def test_the_gpu_benchmark_runs_under_the_simulator(capsys):
 def test_a_runs_behaviour_rows_equal_the_cpus(tmp_path):
     config = tiny(**{"evolution.generations": 2})
     for name, evaluator in (("cpu", InProcessEvaluator(config)), ("cuda", CudaEvaluator(config))):
-        run_with_behaviour(config, 5, 1, tmp_path / name, evaluator)
+        evolve_with_behaviour([(tmp_path / name, 1)], config, 5, evaluator)
     for name in ("behaviour.csv", "metrics.csv", "genomes.npy"):
         assert (tmp_path / "cpu" / name).read_bytes() == (tmp_path / "cuda" / name).read_bytes()

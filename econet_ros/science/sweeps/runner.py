@@ -26,7 +26,7 @@ from ...devices import gpus_per_run, make_evaluator
 from ...errors import UsageError
 from ...provenance import SHIPPED, shipped
 from ...runs import evolve_into
-from ..study import run_with_behaviour
+from ..study import evolve_with_behaviour
 from .plan import Run, SweepSpec
 from .spec import finished, prepare_folder
 
@@ -43,7 +43,7 @@ def evolve_run(config: dict, seed: int, behaviour: bool, device: str = "cpu") ->
         settings = Config.from_dict(config)
         evaluator = make_evaluator(settings, device)
         if behaviour:
-            run_with_behaviour(settings, seed, 1, folder, evaluator)
+            evolve_with_behaviour([(folder, 1)], settings, seed, evaluator)
         else:
             evolve_into(folder, settings, seed, 1, evaluator)
         return {path.name: path.read_bytes() for path in sorted(folder.iterdir())

@@ -20,7 +20,7 @@ import pytest
 from econet_ros.cli import main
 from econet_ros.provenance import code
 from econet_ros.run_folders import PROVENANCE_FILE, read_sessions
-from econet_ros.science.study import run_with_behaviour
+from econet_ros.science.study import evolve_with_behaviour
 from econet_ros.science.sweeps.spec import load_spec
 
 REPO = Path(__file__).resolve().parents[3]
@@ -79,7 +79,7 @@ def in_process(spec_path: Path, tmp: Path) -> dict[tuple, dict[str, bytes]]:
     made = {}
     for run in spec.runs():
         folder = tmp / "inproc" / run.cell / run.condition / str(run.seed)
-        run_with_behaviour(run.config, run.seed, 1, folder)
+        evolve_with_behaviour([(folder, 1)], run.config, run.seed)
         made[run.cell, run.condition, run.seed] = folder_bytes(folder)
     return made
 
