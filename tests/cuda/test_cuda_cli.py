@@ -56,6 +56,10 @@ def test_study_on_cuda_advances_each_conditions_runs_together_to_the_cpus_files(
     on_cpu, on_cuda = files_of(tmp_path / "cpu"), files_of(tmp_path / "cuda")
     assert "study/random/run-02/behaviour.csv" in on_cpu and on_cpu == on_cuda
     assert launches == [(2, "behaviour")] * 3 * 2
+    # a lost behaviour.csv is made again by replay when the runs are opened together
+    (tmp_path / "cuda" / "study" / "normal" / "run-01" / "behaviour.csv").unlink()
+    assert main(["study", "--out", "study", "--device", "cuda", *STUDY]) == 0
+    assert files_of(tmp_path / "cuda") == on_cuda
 
 
 def one_line_error(capsys, arguments) -> str:
