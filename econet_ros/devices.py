@@ -1,5 +1,6 @@
 """Where a command tests its populations (``--device``): the table of devices and the one
-factory every command, the study and the sweep's tasks use.
+factory every command, the study and the sweep's tasks use; whether a device's evaluator
+advances a configuration's runs together (the study hands it a condition's runs at once).
 
 The CPU evaluator is this process's (evolution.InProcessEvaluator); a GPU's lives in
 econet_ros.cuda, which is imported only when a GPU is asked for, so that CPU users never load

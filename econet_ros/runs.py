@@ -27,6 +27,7 @@ from .trials import Record
 # -- the one generation loop ------------------------------------------------------------------
 OnGeneration = Callable[[GenerationResult, np.ndarray], None]
 RunOnGeneration = Callable[[int, GenerationResult, np.ndarray], None]    # told the run first
+RunOnOpen = Callable[[int, int], None]                                    # run, done
 
 
 def evolve_into(folder: Path, config: Config, seed: int, run: int,
@@ -60,7 +61,7 @@ def evolve_into(folder: Path, config: Config, seed: int, run: int,
 
 def evolve_runs(runs: list[tuple[Path, int]], config: Config, seed: int, evaluator: Evaluator,
                 on_generation: RunOnGeneration | None = None, record: Record = False,
-                on_open: Callable[[int, int], None] | None = None,
+                on_open: RunOnOpen | None = None,
                 plugin: dict | None = None) -> None:
     """Evolve (or resume) the runs ``(folder, run number)`` of one configuration, as every
     command does: all together when ``evaluator`` tests many runs at once (a BatchEvaluator:
@@ -78,7 +79,7 @@ def evolve_runs(runs: list[tuple[Path, int]], config: Config, seed: int, evaluat
 
 def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
                     evaluator: BatchEvaluator, on_generation: RunOnGeneration | None = None,
-                    record: Record = False, on_open: Callable[[int, int], None] | None = None,
+                    record: Record = False, on_open: RunOnOpen | None = None,
                     plugin: dict | None = None) -> None:
     """Evolve (or resume) the runs ``(folder, run number)`` side by side: each round every
     unfinished run's next generation (runs resumed at different generations included) is tested
@@ -90,8 +91,9 @@ def evolve_together(runs: list[tuple[Path, int]], config: Config, seed: int,
         evolutions = [held.enter_context(RunEvolution(folder, config, seed, run,
                                                       evaluator.n_weights, plugin=plugin))
                       for folder, run in runs]
-        for evolution in evolutions if on_open else ():
-            on_open(evolution.run, evolution.generation)
+        if on_open:
+            for evolution in evolutions:
+                on_open(evolution.run, evolution.generation)
         while active := [evolution for evolution in evolutions if not evolution.finished]:
             results = evaluator.test_generations([(e.genomes, seed, e.run, e.generation)
                                                   for e in active], record)
