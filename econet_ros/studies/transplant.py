@@ -22,7 +22,8 @@ from ..evolution import (InProcessEvaluator, generation_setups, genome_weights,
                          select_parents)
 from ..files import write_atomically
 from ..genome import encode
-from ..runs import RunData, evolve_into
+from ..run_folders import RunData
+from ..runs import evolve_into
 from ..science import holding
 from ..science.sweeps.outcomes import run_holding
 from ..science.sweeps.spec import load_sweep
