@@ -1,5 +1,6 @@
 """The README and the guides as a newcomer meets them: every local link (and image) resolves,
-anchors included (GitHub's heading slugs), and no internal issue number reaches a user."""
+anchors included (GitHub's heading slugs), no internal issue number reaches a user, and the
+README is short, starts with its two commands and its Python example runs as written."""
 import re
 from pathlib import Path
 
@@ -57,3 +58,20 @@ def test_users_never_see_internal_issue_numbers():
     mentions = [f"{p.relative_to(REPO)}: {m.group(0)}" for p in places
                 for m in re.finditer(r"\bissues? \d+", p.read_text(encoding="utf-8"))]
     assert mentions == []
+
+
+def test_the_readme_is_short_and_starts_with_its_two_commands():
+    lines = (REPO / "README.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 150
+    head = "\n".join(lines[:25])
+    assert re.search(r"^scripts/run\b", head, re.M) and re.search(r"^scripts/test\b", head, re.M)
+
+
+def test_the_readme_python_example_runs_as_written(tmp_path, monkeypatch, capsys):
+    example = re.search(r"```python\n(.*?)```", (REPO / "README.md").read_text(encoding="utf-8"),
+                        re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(example, "README.md", "exec"), {"__name__": "readme_example"})
+    assert "trials" in capsys.readouterr().out
+    rows = (tmp_path / "runs" / "run-01" / "metrics.csv").read_text().splitlines()
+    assert rows[0].startswith("generation,") and len(rows) == 1 + 5
