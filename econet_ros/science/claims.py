@@ -13,8 +13,9 @@ of runs with its Clopper-Pearson interval); the criteria alone give the verdict:
 absent, reversed, inconclusive, or n/a. evaluate() adds the family's Holm-adjusted verdicts. A
 measure raises ValueError when a condition it needs has no data ("not measurable").
 
-Windows (series.Windows, at G = 200): start = gens 0-4, early = 0-19, dip = 10-49, first
-quarter = 0-49, late = 180-199. A run's window value is its mean over the window (separations
+Windows (series.SPANS, at G = 200): start = gens 0-4, early = 0-19, dip = 10-49, first
+quarter = 0-49, late = 180-199; the slowdown's (claims 33-37): slowdown start = gen 0, slowdown
+dip = gens 1-19, recovery = gens 20-39. A run's window value is its mean over the window (separations
 per successful trial: the window sums divided); comparisons pair runs by run number (the same
 seed and trial starts in every condition). Chance is the random condition's level, paired by
 run, not 0.5.
@@ -778,7 +779,7 @@ def approach_u(ev: Evidence, margin: float) -> Judged:
 @claim("hand-slowdown", SLOWDOWN,
        "Sight of the object is associated with an early slowdown of hand movements "
        "(Fig 9a)",
-       "fixated hand speed, start window - dip window > 0",
+       "fixated hand speed, slowdown start (gen 0) - slowdown dip (gens 1-19) > 0",
        nulls=(RANDOM, SHUFFLED), margin=HAND_MARGIN, kind="hand")
 @claim("eye-slowdown", SLOWDOWN,
        "... and of head/eye movements (Fig 9b)",
@@ -788,39 +789,42 @@ def early_slowdown(ev: Evidence, kind: str, margin: float) -> Judged:
     w = ev.windows
     column = f"top_{kind}_speed_fix"
     unit = "units" if kind == "hand" else "deg"
-    return increase(f"{kind} speed while fixating ({unit}/cycle), {w.label(w.start)} - "
-                    f"{w.label(w.dip)}", ev.compare(("normal", column, w.start),
-                                                    ("normal", column, w.dip)), margin, 2)
+    return increase(f"{kind} speed while fixating ({unit}/cycle), {w.label(w.slowdown_start)} - "
+                    f"{w.label(w.slowdown_dip)}",
+                    ev.compare(("normal", column, w.slowdown_start),
+                               ("normal", column, w.slowdown_dip)), margin, 2)
 
 
 @claim("slowdown-temporary", SLOWDOWN,
        "The slowdown is early and short-lived (speeds recover later)",
        "presupposes the slowdown (hand-slowdown's and eye-slowdown's criteria are this "
-       "claim's); fixated speed, late - dip > 0, hand and eye",
+       "claim's); fixated speed, recovery (gens 20-39) - slowdown dip (gens 1-19) > 0, hand and "
+       "eye",
        nulls=(RANDOM, SHUFFLED), margin={"hand": HAND_MARGIN, "eye": EYE_MARGIN})
 def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
     w = ev.windows
-    recoveries = {kind: ev.compare(("normal", f"top_{kind}_speed_fix", w.final),
-                                   ("normal", f"top_{kind}_speed_fix", w.dip))
+    recoveries = {kind: ev.compare(("normal", f"top_{kind}_speed_fix", w.recovery),
+                                   ("normal", f"top_{kind}_speed_fix", w.slowdown_dip))
                   for kind in ("hand", "eye")}
     criteria = [c for kind, p in recoveries.items()
                 for c in (*judged_as(f"{kind}-slowdown", ev).criteria,
-                          above(f"{kind} speed while fixating, late - dip", p,
+                          above(f"{kind} speed while fixating, recovery - dip", p,
                                 margin=margin[kind]))]
-    return Judged("speed while fixating, late - dip: " + "; ".join(
+    return Judged("speed while fixating, recovery - slowdown dip: " + "; ".join(
         f"{k} {said(p)}" for k, p in recoveries.items()), tuple(criteria))
 
 
 @claim("less-movement", SLOWDOWN,
        "The early dip in fixated approach reflects less movement overall (explanation a), "
        "not more movement away (b)",
-       "fixated hand speed start - dip > 0 (hand-slowdown's criterion), and P(away | fixated) "
-       "dip - start <= 0.02",
+       "fixated hand speed slowdown start - slowdown dip > 0 (hand-slowdown's criterion), and "
+       "P(away | fixated) slowdown dip - slowdown start <= 0.02",
        nulls=(RANDOM, SHUFFLED), margin=PROBABILITY_MARGIN)
 def less_movement(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
     slower = judged_as("hand-slowdown", ev)
-    away = ev.compare(("normal", "top_away_fix", w.dip), ("normal", "top_away_fix", w.start))
+    away = ev.compare(("normal", "top_away_fix", w.slowdown_dip),
+                      ("normal", "top_away_fix", w.slowdown_start))
     return Judged(f"{slower.ours}; P(away | fixated), dip - start: {said(away, 3)}", (
         *slower.criteria,
         below("P(away | fixated), dip - start", away, 0.02, closed=True, digits=3,
@@ -829,12 +833,13 @@ def less_movement(ev: Evidence, margin: float) -> Judged:
 
 @claim("keeps-sight", SLOWDOWN,
        "The slowdown may come from learning to keep sight of the object once fixated",
-       "share of pre-contact cycles with the object fixated, dip - start > 0",
+       "share of pre-contact cycles with the object fixated, slowdown dip - slowdown start > 0",
        nulls=(RANDOM, SHUFFLED), added=True, margin=PROBABILITY_MARGIN)
 def keeps_sight(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
     return increase("share of pre-contact cycles with the object in sight, dip - start",
-                    ev.paired(_fixation_share(ev, w.dip), _fixation_share(ev, w.start)), margin)
+                    ev.paired(_fixation_share(ev, w.slowdown_dip),
+                              _fixation_share(ev, w.slowdown_start)), margin)
 
 
 def _fixation_share(ev: Evidence, window: slice) -> dict[str, float]:

@@ -218,17 +218,44 @@ def test_a_verdict_can_depend_on_where_the_late_window_lies():
     verdicts = {label: C.judge(claim, Evidence(ev, [], w)).verdict
                 for label, w in Windows(G).moved().items()}
     assert C.judge(claim, Evidence(ev, [], Windows(G))).verdict == "replicates"
-    assert verdicts == {"early 5%": "replicates", "early 15%": "replicates",
-                        "late 5%": "replicates", "late 15%": "absent"}
+    assert verdicts["late gens 190-199"] == "replicates"
+    assert verdicts["late gens 170-199"] == "absent"
+    assert verdicts["early gens 0-9"] == verdicts["slowdown dip gens 1-9"] == "replicates"
 
 
-def test_the_moved_windows_are_the_first_and_last_5_and_15_percent():
-    moved = Windows(200).moved()
-    assert [(w.early, w.final) for w in moved.values()] == [
-        (slice(0, 10), slice(180, 200)), (slice(0, 30), slice(180, 200)),
-        (slice(0, 20), slice(190, 200)), (slice(0, 20), slice(170, 200))]
-    assert (Windows(200).early, Windows(200).final, Windows(4).early) == (
-        slice(0, 20), slice(180, 200), slice(0, 1))
+def test_every_window_is_moved_one_at_a_time_the_slowdown_also_to_its_old_windows():
+    w = Windows(200)
+    assert (w.slowdown_start, w.slowdown_dip, w.recovery) == (slice(0, 1), slice(1, 20),
+                                                              slice(20, 40))
+    assert (w.start, w.early, w.dip, w.first_quarter, w.final) == (
+        slice(0, 5), slice(0, 20), slice(10, 50), slice(0, 50), slice(180, 200))
+    moved = w.moved()
+    assert {name for name, _ in w.spans} == {label.rsplit(" gen", 1)[0] for label in moved}
+    old = moved["slowdown dip gens 10-49"]
+    assert (old.slowdown_dip, old.slowdown_start, old.dip) == (slice(10, 50), slice(0, 1),
+                                                                slice(10, 50))
+    assert moved["slowdown start gens 0-4"].slowdown_start == slice(0, 5)
+    assert moved["recovery gens 180-199"].recovery == w.final
+    assert (Windows(4).early, Windows(4).dip, Windows(4).final, Windows(4).slowdown_dip) == (
+        slice(0, 1), slice(1, 2), slice(3, 4), slice(1, 2))
+
+
+def test_the_slowdown_is_judged_from_generation_0_to_the_first_20_and_its_recovery_after():
+    """Fixated hand speed 6 at generation 0, a trough of 3 over generations 1-9 of 200, 5 over
+    10-19, back to 6 over 20-39, 2 after: the registered windows see a slowdown that recovers;
+    the windows registered before (start 0-4, dip 10-49) put the fall inside the start and the
+    recovery inside the dip, and call it a speed-up."""
+    g = 200
+    curve = np.full(g, 2.0)
+    curve[0], curve[1:10], curve[10:20], curve[20:40] = 6.0, 3.0, 5.0, 6.0
+    runs = curve + np.random.default_rng(5).normal(0, 0.05, (RUNS, g))
+    data = ConditionData("normal", Path("normal"), g, {"top_hand_speed_fix": runs}, {},
+                         [g] * RUNS, [Path(f"run-{i:02d}") for i in range(RUNS)], [])
+    hand = next(c for c in C.CLAIMS if c.key == "hand-slowdown")
+    assert C.judge(hand, Evidence({"normal": data}, [], Windows(g))).verdict == "replicates"
+    before = Windows(g, spans=tuple({**dict(Windows(g).spans), "slowdown start": (0, 5),
+                                     "slowdown dip": (10, 50)}.items()))
+    assert C.judge(hand, Evidence({"normal": data}, [], before)).verdict == "reversed"
 
 
 def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():

@@ -76,19 +76,20 @@ def test_the_tally_counts_four_verdicts_raw_and_after_holm_with_the_flagged():
     assert "P(approach" not in table and "detectable" in table and "margin 1" in table
 
 
-def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
+def test_the_window_table_has_a_row_per_moved_window_and_names_the_claims_that_move():
     base = [result("fitness", "replicates"), result("latency", "reversed")]
     moved = {label: list(base) for label in Windows(200).moved()}
-    moved["late 15%"] = [base[0], result("latency", "inconclusive")]
+    moved["slowdown dip gens 10-49"] = [base[0], result("latency", "inconclusive")]
     analysis = SimpleNamespace(windows=Windows(200), claims={"base": base},
                                moved_windows=moved)
     lines = report._windows(analysis)
-    rows = [line for line in lines if line.startswith("| 2 |")]
-    assert rows == ["| 2 | latency | reversed | reversed | reversed | reversed | inconclusive |"]
-    assert not any(line.startswith("| 1 |") for line in lines)
-    assert "late 15% (gens 170-199)" in lines[2] and "early 5% (gens 0-9)" in lines[2]
+    rows = [line for line in lines if line.startswith("| ") and "gens" in line.split("|")[1]]
+    assert len(rows) == len(moved) == 18           # every window moved, start and dip included
+    assert "| slowdown dip gens 10-49 | 2 latency: reversed -> inconclusive |" in rows
+    assert "| slowdown start gens 0-4 | none |" in rows and "| start gens 0-7 | none |" in rows
+    assert "1 of 2 claims depend on where a window lies: 2 latency" in lines[-1]
     unmoved = {label: list(base) for label in Windows(200).moved()}
-    assert "None: no claim's verdict depends" in report._windows(SimpleNamespace(
+    assert "0 of 2 claims depend" in report._windows(SimpleNamespace(
         windows=Windows(200), claims={"base": base}, moved_windows=unmoved))[-1]
 
 
