@@ -34,8 +34,9 @@ from .evidence import LOCK, Evidence, dominated, first_passage
 from .measures import CHANCE
 from .series import Windows, per_run, smooth
 from .stats import Paired, bounded, estimate, share
-from .verdicts import (EARLY_AHEAD, MOST, REPLICATES, Criterion, above, after_holm, below,
-                       decide, holm_family, most_runs, sign_count, within)
+from .verdicts import (EARLY_AHEAD, MOST, PREMISE_FAILS, REPLICATES, Criterion, above,
+                       after_holm, below, decide, given, holm_family, most_runs, sign_count,
+                       within)
 
 SHUFFLES = 20          # time-shuffled nulls per claim
 LEVEL_LIKE = 0.5       # a rule replicating on this share of its shuffled nulls or more cannot
@@ -73,26 +74,40 @@ MOST_MARGIN = 0.25                    # "most runs" as three runs in four: 1/2 +
 
 class Judged(NamedTuple):
     """Our measurement in words and the criteria that decide the verdict (all of them must
-    replicate, or ``needed`` of them)."""
+    replicate, or ``needed`` of them); for a claim conditional on another, that claim's
+    judgement (``premise``, named ``premise_key``)."""
 
     ours: str
     criteria: tuple[Criterion, ...] = ()
     needed: int | None = None
+    premise: "Judged | None" = None
+    premise_key: str = ""
+
+    @property
+    def own(self) -> tuple[str, float]:
+        """The verdict and p-value of this claim's own criteria, whatever its premise."""
+        return decide(self.criteria, self.needed)
+
+    @property
+    def decided(self) -> tuple[str, float]:
+        return self.own if self.premise is None else given(self.premise.decided, self.own)
 
     @property
     def verdict(self) -> str:
-        return decide(self.criteria, self.needed)[0]
+        return self.decided[0]
 
     @property
     def p(self) -> float:
-        """The p-value of the test the verdict rests on (verdicts.decide)."""
-        return decide(self.criteria, self.needed)[1]
+        """The p-value of the test the verdict rests on (verdicts.decide, verdicts.given)."""
+        return self.decided[1]
 
     @property
     def decisive(self) -> Criterion | None:
-        """The criterion that decides the verdict: the first whose own verdict is the claim's
-        (the first criterion when none is)."""
+        """The criterion that decides the verdict: the premise's when the premise fails, else
+        the first whose own verdict is the claim's (the first criterion when none is)."""
         verdict = self.verdict
+        if verdict == PREMISE_FAILS:
+            return self.premise.decisive
         return next((c for c in self.criteria if c.judged == verdict),
                     self.criteria[0] if self.criteria else None)
 
@@ -131,6 +146,15 @@ def judged_as(key: str, ev: Evidence) -> Judged:
     """A claim's judgement of this evidence with its own margin: a premise inside another
     claim's rule, or a claim judged on its own."""
     return next(c for c in CLAIMS if c.key == key).measure(ev)
+
+
+def presupposing(keys: tuple[str, ...], ev: Evidence, own: Judged) -> Judged:
+    """A claim judged on its own criteria, conditional on the claims ``keys`` (all of them
+    together its premise): its verdict is "premise fails" when they fail (verdicts.given)."""
+    premises = [judged_as(key, ev) for key in keys]
+    premise = Judged("; ".join(j.ours for j in premises),
+                     tuple(c for j in premises for c in j.criteria))
+    return own._replace(premise=premise, premise_key=" and ".join(keys))
 
 
 class Nulls(NamedTuple):
@@ -377,18 +401,21 @@ def shoulder_locked(ev: Evidence, margin: float) -> Judged:
 
 @claim("lock-position", LOCKING,
        "In 8 of 10 runs the shoulder is held fully extended, in the other 2 fully flexed",
-       "a locked shoulder's position from its late mean angle (>= 135 deg extended, <= 45 "
-       f"flexed); share of runs locked extended (Clopper-Pearson): > 0.5 replicates, wholly "
-       f"below {EIGHT_OF_TEN} ('8 of 10') is reversed",
+       "presupposes shoulder-locked (the paper's ten runs all lock); a locked shoulder's "
+       "position from its late mean angle (>= 135 deg extended, <= 45 flexed); share of the "
+       f"locked runs locked extended (Clopper-Pearson): > 0.5 replicates, wholly below "
+       f"{EIGHT_OF_TEN} ('8 of 10') is reversed",
        nulls=(RANDOM,), margin=EIGHT_OF_TEN - MOST)
 def lock_position(ev: Evidence, margin: float) -> Judged:
     rows = ev.joints()
-    extended = share([r["position"] == "extended" for r in rows])
+    locked = [r for r in rows if r["locked"]]
+    extended = share([r["position"] == "extended" for r in locked])
     flexed = sum(r["position"] == "flexed" for r in rows)
-    return Judged(f"share of runs locked extended {extended.text()}; {flexed} flexed, "
-                  f"{sum(not r['locked'] for r in rows)} not locked", (
-                      most_runs("share of runs locked extended", extended, EIGHT_OF_TEN,
-                                margin),))
+    return presupposing(("shoulder-locked",), ev, Judged(
+        f"share of the locked runs locked extended {extended.text()}; {flexed} flexed, "
+        f"{len(rows) - len(locked)} not locked", (
+            most_runs("share of locked runs locked extended", extended, EIGHT_OF_TEN,
+                      margin),)))
 
 
 @claim("lock-speed", LOCKING,
@@ -666,21 +693,15 @@ def lesion_disorganises(ev: Evidence, margin: dict) -> Judged:
 
 @claim("lesion-start", APPROACH,
        "After the lesion, reaches are no longer initiated from the same position",
-       "presupposes stereotyped-start (its criterion is one of this claim's); reach-start "
+       "presupposes stereotyped-start (intact reaches start from one place); reach-start "
        "spread lesioned - intact > 0",
        nulls=(RANDOM,), margin=SPREAD_MARGIN)
 def lesion_scatters_start(ev: Evidence, margin: float) -> Judged:
-    stereotyped = judged_as("stereotyped-start", ev)
     spread = ev.paired({i: s.start_spread_body for i, s in enumerate(ev.reaches("lesioned"))},
                        {i: s.start_spread_body for i, s in enumerate(ev.reaches("intact"))})
-    scatters = above("reach-start spread, lesioned - intact", spread, digits=1, margin=margin)
-    text = (f"reach-start spread (body frame), lesioned - intact: {said(spread, 1)} units: the "
-            f"lesion's scattering {scatters.judged}")
-    if stereotyped.verdict != REPLICATES:
-        text += (f"; but the premise is {stereotyped.verdict} (stereotyped-start: intact reaches "
-                 "are not shown to start from one place), so 'no longer from the same "
-                 "position' cannot replicate")
-    return Judged(text, (*stereotyped.criteria, scatters))
+    return presupposing(("stereotyped-start",), ev, Judged(
+        f"reach-start spread (body frame), lesioned - intact: {said(spread, 1)} units", (
+            above("reach-start spread, lesioned - intact", spread, digits=1, margin=margin),)))
 
 
 # -- 4 movement slowdown (Figures 8, 9) ------------------------------------------------------
@@ -797,8 +818,7 @@ def early_slowdown(ev: Evidence, kind: str, margin: float) -> Judged:
 
 @claim("slowdown-temporary", SLOWDOWN,
        "The slowdown is early and short-lived (speeds recover later)",
-       "presupposes the slowdown (hand-slowdown's and eye-slowdown's criteria are this "
-       "claim's); fixated speed, recovery (gens 20-39) - slowdown dip (gens 1-19) > 0, hand and "
+       "presupposes the slowdown (hand-slowdown and eye-slowdown); fixated speed, recovery (gens 20-39) - slowdown dip (gens 1-19) > 0, hand and "
        "eye",
        nulls=(RANDOM, SHUFFLED), margin={"hand": HAND_MARGIN, "eye": EYE_MARGIN})
 def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
@@ -806,29 +826,27 @@ def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
     recoveries = {kind: ev.compare(("normal", f"top_{kind}_speed_fix", w.recovery),
                                    ("normal", f"top_{kind}_speed_fix", w.slowdown_dip))
                   for kind in ("hand", "eye")}
-    criteria = [c for kind, p in recoveries.items()
-                for c in (*judged_as(f"{kind}-slowdown", ev).criteria,
-                          above(f"{kind} speed while fixating, recovery - dip", p,
-                                margin=margin[kind]))]
-    return Judged("speed while fixating, recovery - slowdown dip: " + "; ".join(
-        f"{k} {said(p)}" for k, p in recoveries.items()), tuple(criteria))
+    return presupposing(("hand-slowdown", "eye-slowdown"), ev, Judged(
+        "speed while fixating, recovery - slowdown dip: " + "; ".join(
+            f"{k} {said(p)}" for k, p in recoveries.items()), tuple(
+            above(f"{kind} speed while fixating, recovery - slowdown dip", p,
+                  margin=margin[kind]) for kind, p in recoveries.items())))
 
 
 @claim("less-movement", SLOWDOWN,
        "The early dip in fixated approach reflects less movement overall (explanation a), "
        "not more movement away (b)",
-       "fixated hand speed slowdown start - slowdown dip > 0 (hand-slowdown's criterion), and "
-       "P(away | fixated) slowdown dip - slowdown start <= 0.02",
+       "presupposes hand-slowdown (less movement overall: the paper's Figure 9); P(away | "
+       "fixated) slowdown dip - slowdown start <= 0.02 (not more movement away)",
        nulls=(RANDOM, SHUFFLED), margin=PROBABILITY_MARGIN)
 def less_movement(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
-    slower = judged_as("hand-slowdown", ev)
     away = ev.compare(("normal", "top_away_fix", w.slowdown_dip),
                       ("normal", "top_away_fix", w.slowdown_start))
-    return Judged(f"{slower.ours}; P(away | fixated), dip - start: {said(away, 3)}", (
-        *slower.criteria,
-        below("P(away | fixated), dip - start", away, 0.02, closed=True, digits=3,
-              margin=margin)))
+    return presupposing(("hand-slowdown",), ev, Judged(
+        f"P(away | fixated), slowdown dip - slowdown start: {said(away, 3)}", (
+            below("P(away | fixated), slowdown dip - slowdown start", away, 0.02, closed=True,
+                  digits=3, margin=margin),)))
 
 
 @claim("keeps-sight", SLOWDOWN,

@@ -31,7 +31,7 @@ from .sweeps.outcomes import tidy_rows
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.rules import Swept, choose_defaults, rule_of
 from .sweeps.spec import load_sweep
-from .verdicts import FOUR_VERDICTS
+from .verdicts import CLAIM_VERDICTS, PREMISE_FAILS
 
 
 @dataclass
@@ -293,9 +293,15 @@ def _claims(analysis: Analysis) -> list[str]:
             "when it lies within the margin either side of no effect (0 for a difference: the "
             "two one-sided tests at 2.5%); is **reversed** when it lies wholly outside the "
             "region otherwise (for a band, outside the band; for a share of runs, below the "
-            "share the paper's count predicts); and is **inconclusive** otherwise. A claim "
-            "replicates when its criteria do, is reversed when one is, absent when one is "
-            "absent, inconclusive otherwise. **p** is the p-value of the test the verdict rests "
+            "share the paper's count predicts); and is **inconclusive** otherwise. A claim that "
+            "needs all its criteria replicates when they all do, is reversed when one is, "
+            "absent when one is absent (none reversed); a claim that needs k of its m criteria "
+            "(lesion-disorganised: 3 of 4) replicates when k do, is reversed when more than "
+            "m - k are reversed, absent when more than m - k are absent or reversed; "
+            "inconclusive otherwise. A claim conditional on another (its premise, printed "
+            "first among its criteria) is **premise fails** when the premise is absent or "
+            "reversed, whatever its own criteria say (printed beside it), and replicates only "
+            "when both do. **p** is the p-value of the test the verdict rests "
             "on, raw and Holm-adjusted over the family of claims; the **Holm** verdict keeps "
             "the raw one when the adjusted p is below 0.05 and is inconclusive otherwise. "
             "Chance is the random condition's level, paired by run. Beside each criterion: its "
@@ -317,7 +323,7 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
             "|---|---|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
-        criteria = "<br>".join(c.text(four=True) for c in r.judged.criteria) or "-"
+        criteria = "<br>".join(criteria_lines(r.judged)) or "-"
         flags = "".join(f" (flagged: {flag})" for flag in r.flags)
         row = ("| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
                                                 r.ours, criteria)))
@@ -327,6 +333,17 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
             row += f" {r.nulls.random} | {shuffled} |"
         rows.append(row)
     return "\n".join(rows) + "\n"
+
+
+def criteria_lines(judged) -> list[str]:
+    """A claim's criteria in words, its premise (another claim) first when it has one, with
+    the premise's verdict and the claim's own beside it."""
+    own = [c.text(four=True) for c in judged.criteria]
+    if judged.premise is None:
+        return own
+    return [f"premise {judged.premise_key}: {judged.premise.verdict}", *(
+        c.text(four=True) for c in judged.premise.criteria),
+        f"own criteria: {judged.own[0]}", *own]
 
 
 def _p(p: float) -> str:
@@ -339,19 +356,23 @@ def _escaped(text: str) -> str:
 
 
 def _tally(results: list[ClaimResult]) -> list[str]:
-    """The four verdicts counted for the paper's claims apart from the added ones, raw and
-    after Holm's correction, and how many of each row are flagged by a null."""
+    """The verdicts counted for the paper's claims apart from the added ones, raw and after
+    Holm's correction ("premise fails" apart from "reversed": a failure is counted once, where
+    it was measured), and how many of each row are flagged by a null."""
     rows = []
     for whose, added in (("the paper's", False), ("added", True)):
         group = [r for r in results if r.claim.added == added]
         flagged = sum(bool(r.flags) for r in group)
         for label, verdict_of in (("raw", lambda r: r.verdict), ("Holm", lambda r: r.adjusted)):
             rows.append(f"| {whose}, {label} | " + " | ".join(
-                str(sum(verdict_of(r) == v for r in group)) for v in FOUR_VERDICTS)
+                str(sum(verdict_of(r) == v for r in group)) for v in CLAIM_VERDICTS)
                 + f" | {len(group)} | {flagged} |")
     return ["\nTally (flagged: by either null; their verdicts say little about the claim):\n",
-            "| claims | " + " | ".join(FOUR_VERDICTS) + " | all | of them flagged |",
-            "|---|" + "---|" * (len(FOUR_VERDICTS) + 2), *rows, ""]
+            "| claims | " + " | ".join(CLAIM_VERDICTS) + " | all | of them flagged |",
+            "|---|" + "---|" * (len(CLAIM_VERDICTS) + 2), *rows, "",
+            f"A claim conditional on another is counted as *{PREMISE_FAILS}* when that claim "
+            "is absent or reversed, whatever its own criteria say (they are printed beside "
+            "it): its failure is that claim's, counted there.\n"]
 
 
 def _windows(analysis: Analysis) -> list[str]:
@@ -384,7 +405,8 @@ CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "
                  "estimate", "ci_low", "ci_high", "method", "n", "region", "margin", "verdict",
                  "p_raw", "p_holm", "verdict_holm", "runs_for_80_power", "detectable",
                  "effect_size_dz", "criteria", "null_random_verdict",
-                 "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes"]
+                 "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes",
+                 "premise", "premise_verdict", "own_verdict"]
 
 
 def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
@@ -401,10 +423,12 @@ def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
           else (nan, nan, nan, "", 0, "", nan)),
         r.verdict, r.p, r.p_holm, r.adjusted, c.runs_needed if c else nan,
         c.detectable if c else nan, c.comparison.effect if c and c.comparison else nan,
-        "; ".join(x.text(four=True) for x in r.judged.criteria),
+        "; ".join(criteria_lines(r.judged)),
         r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
         r.chance_flagged, r.flagged,
-        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict))))
+        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict),
+        r.judged.premise_key, r.judged.premise.verdict if r.judged.premise else "",
+        r.judged.own[0])))
 
 
 def write_claims_csv(path: Path, results: list[ClaimResult],

@@ -168,16 +168,30 @@ def test_no_run_locking_contradicts_lock_speed_without_a_speed_to_judge():
     assert judged.ours == "no run's shoulder ever locks"
 
 
-def test_lesion_start_needs_its_premise():
+def test_lesion_start_fails_with_its_premise_and_reports_its_own_criterion_beside_it():
     scattered = [{"intact": reaches(start_spread_body=30),
                   "lesioned": reaches(start_spread_body=40 + i % 2)} for i in range(RUNS)]
     judged = C.judged_as("lesion-start", Evidence({}, scattered, Windows(G)))
-    assert judged.verdict == "reversed" and "premise is reversed" in judged.ours
-    assert judged.criteria[1].judged == "replicates"      # the spread grows, but from no one place
-    assert "the lesion's scattering replicates" in judged.ours
+    assert judged.verdict == "premise fails" and judged.premise.verdict == "reversed"
+    assert judged.own[0] == "replicates"       # the spread grows, but from no one place
+    assert judged.premise_key == "stereotyped-start" and judged.decisive is \
+        judged.premise.criteria[0] and judged.p == judged.premise.p
     tight = [{"intact": reaches(start_spread_body=5 + i % 2),
               "lesioned": reaches(start_spread_body=25 + i % 3)} for i in range(RUNS)]
     assert C.judged_as("lesion-start", Evidence({}, tight, Windows(G))).verdict == "replicates"
+    still = [{"intact": reaches(start_spread_body=5 + i % 2),
+              "lesioned": reaches(start_spread_body=2 + i % 3)} for i in range(RUNS)]
+    assert C.judged_as("lesion-start", Evidence({}, still, Windows(G))).verdict == "reversed"
+
+
+def test_lock_position_counts_unlocked_runs_as_its_premise_failing_not_as_flexed():
+    """4 of 10 runs lock, all extended: the shoulder does not lock in all runs (the premise
+    is reversed), and the locked ones' position, all extended, is reported beside it."""
+    judged = C.judged_as("lock-position", evidence(normal=joints([2.0] * 4 + [50.0] * 6)))
+    assert judged.verdict == "premise fails" and judged.premise_key == "shoulder-locked"
+    (extended,) = judged.criteria
+    assert extended.interval.n == 4 and extended.interval.mean == 1.0
+    assert judged.own[0] == "inconclusive"       # 4 of 4 cannot show most runs
 
 
 def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():

@@ -58,17 +58,32 @@ def result(key, verdict, shuffled=math.nan, random="reversed", p_holm=None):
                        judged.p if p_holm is None else p_holm)
 
 
-def test_the_tally_counts_four_verdicts_raw_and_after_holm_with_the_flagged():
+def conditional(key, premise_verdict, own_verdict, p_holm=None):
+    """A claim result conditional on a premise judged premise_verdict, its own criteria
+    own_verdict."""
+    own, premise = result(key, own_verdict), result("stereotyped-start", premise_verdict)
+    judged = own.judged._replace(premise=premise.judged, premise_key="stereotyped-start")
+    return ClaimResult(CLAIM[key], judged, Nulls("reversed", math.nan),
+                       judged.p if p_holm is None else p_holm)
+
+
+def test_the_tally_counts_the_verdicts_raw_and_after_holm_premise_fails_apart():
     results = [result("fitness", "replicates", p_holm=0.2),              # Holm: inconclusive
                result("latency", "reversed"), result("successes", "absent"),
                result("lock-speed", "replicates", shuffled=1.0),            # flagged
+               conditional("lesion-start", "reversed", "replicates"),
+               conditional("lock-position", "reversed", "reversed", p_holm=0.3),
                result("others-mobile", "inconclusive", random="replicates"),  # added, flagged
                result("two-joint-search", "replicates", shuffled=0.5)]      # added, flagged
     lines = report._tally(results)
-    # replicates | absent | reversed | inconclusive | n/a | all | flagged
-    assert "| the paper's, raw | 2 | 1 | 1 | 0 | 0 | 4 | 1 |" in lines
-    assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 0 | 4 | 1 |" in lines
-    assert "| added, raw | 1 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    # replicates | absent | reversed | premise fails | inconclusive | n/a | all | flagged
+    assert "| the paper's, raw | 2 | 1 | 1 | 2 | 0 | 0 | 6 | 1 |" in lines
+    assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 2 | 0 | 6 | 1 |" in lines
+    assert "| added, raw | 1 | 0 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    row = next(line for line in report._claims_table(results).split("\n")
+               if line.startswith("| 5 |"))
+    assert "**premise fails**" in row and "premise stereotyped-start: reversed" in row
+    assert "own criteria: replicates<br>lesion-start difference" in row
     assert results[0].adjusted == "inconclusive" and results[1].adjusted == "reversed"
     table = report._claims_table(results, nulls=True)
     assert table.count("(flagged: cannot tell a time course from a level)") == 2

@@ -8,7 +8,7 @@ from scipy.stats import t as t_quantile
 from econet_ros.science.stats import EXACT_SHARE, Estimate, Paired, fewest_runs, paired, share
 from econet_ros.science.verdicts import (ABSENT, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED,
                                          REPLICATES, REVERSED, above, below, combine, decide,
-                                         holm_family, most_runs, sign_count, within)
+                                         given, holm_family, most_runs, sign_count, within)
 
 
 def interval(lo, hi, n=10):
@@ -148,3 +148,15 @@ def test_holm_over_a_family_keeps_a_verdict_only_below_the_level_and_leaves_n_a_
                                       INCONCLUSIVE]
     assert adjusted[0] == pytest.approx(0.004) and math.isnan(adjusted[3])
     assert all(a >= p for a, p in zip(adjusted, (0.001, 0.03, 0.02)))
+
+
+@pytest.mark.parametrize("premise, own, expected", [
+    (("reversed", 0.001), ("replicates", 0.01), ("premise fails", 0.001)),
+    (("absent", 0.002), ("reversed", 0.01), ("premise fails", 0.002)),
+    (("replicates", 0.03), ("replicates", 0.01), ("replicates", 0.03)),
+    (("replicates", 0.001), ("reversed", 0.01), ("reversed", 0.01)),
+    (("inconclusive", 0.4), ("replicates", 0.01), ("inconclusive", 0.01)),
+    (("inconclusive", 0.4), ("reversed", 0.01), ("reversed", 0.01))])
+def test_a_conditional_claim_fails_with_its_premise_and_replicates_only_with_it(
+        premise, own, expected):
+    assert given(premise, own) == expected
