@@ -121,37 +121,46 @@ class Claim(NamedTuple):
     nulls: tuple[str, ...] = (RANDOM,)   # which nulls can test the rule (RANDOM, SHUFFLED)
     added: bool = False         # a claim the paper makes in passing, not in its original table
     margin: float | dict = math.nan      # the smallest effect of interest (per unit: a dict)
+    readings: tuple[tuple[str, Callable], ...] = ()   # the rule at thresholds of its own
 
 
 CLAIMS: list[Claim] = []
 
 
 def claim(key: str, section: str, paper: str, rule: str, *, nulls: tuple[str, ...],
-          margin: float | dict, added: bool = False, **arguments) -> Callable:
+          margin: float | dict, added: bool = False, readings: dict[str, dict] | None = None,
+          **arguments) -> Callable:
     """Define the claim that the decorated measure judges, with its margin (``arguments`` are
-    passed to the measure too, for a measure shared by two claims). Claims keep the order they
-    are written in: Python evaluates stacked decorators' expressions top to bottom, so each
-    claim takes its place in CLAIMS here and gets its measure when the decorator is applied."""
+    passed to the measure too, for a measure shared by two claims). ``readings``: for a rule
+    that rests on a threshold the paper does not give, the same measure at other thresholds
+    (label -> the arguments that change), judged beside the registered verdict, never instead
+    of it. Claims keep the order they are written in: Python evaluates stacked decorators'
+    expressions top to bottom, so each claim takes its place in CLAIMS here and gets its
+    measure when the decorator is applied."""
     place = len(CLAIMS)
     CLAIMS.append(None)
 
     def register(measure: Callable) -> Callable:
-        judged_by = partial(measure, margin=margin, **arguments)
-        CLAIMS[place] = Claim(key, section, paper, rule, judged_by, nulls, added, margin)
+        def judged_by(**changes) -> Callable:
+            return partial(measure, **{"margin": margin, **arguments, **changes})
+        CLAIMS[place] = Claim(key, section, paper, rule, judged_by(), nulls, added, margin,
+                              tuple((label, judged_by(**changes))
+                                    for label, changes in (readings or {}).items()))
         return measure
     return register
 
 
-def judged_as(key: str, ev: Evidence) -> Judged:
-    """A claim's judgement of this evidence with its own margin: a premise inside another
-    claim's rule, or a claim judged on its own."""
-    return next(c for c in CLAIMS if c.key == key).measure(ev)
+def judged_as(key: str, ev: Evidence, **changes) -> Judged:
+    """A claim's judgement of this evidence with its own margin (and any of its thresholds
+    changed): a premise inside another claim's rule, or a claim judged on its own."""
+    return next(c for c in CLAIMS if c.key == key).measure(ev, **changes)
 
 
-def presupposing(keys: tuple[str, ...], ev: Evidence, own: Judged) -> Judged:
+def presupposing(keys: tuple[str, ...], ev: Evidence, own: Judged, **changes) -> Judged:
     """A claim judged on its own criteria, conditional on the claims ``keys`` (all of them
-    together its premise): its verdict is "premise fails" when they fail (verdicts.given)."""
-    premises = [judged_as(key, ev) for key in keys]
+    together its premise, judged with ``changes`` to their thresholds): its verdict is "premise
+    fails" when they fail (verdicts.given)."""
+    premises = [judged_as(key, ev, **changes) for key in keys]
     premise = Judged("; ".join(j.ours for j in premises),
                      tuple(c for j in premises for c in j.criteria))
     return own._replace(premise=premise, premise_key=" and ".join(keys))
@@ -171,6 +180,7 @@ class ClaimResult(NamedTuple):
     judged: Judged
     nulls: Nulls | None = None
     p_holm: float = math.nan    # the verdict's p-value adjusted over the claims (Holm)
+    readings: tuple[tuple[str, str], ...] = ()    # (threshold reading, its raw verdict)
 
     @property
     def ours(self) -> str:
@@ -215,7 +225,7 @@ def evaluate(group, lesion: list[dict], windows: Windows, nulls: bool = False
     evidence = Evidence(group, lesion, windows)
     judged = [judge(claim, evidence) for claim in CLAIMS]
     adjusted = holm_family([(j.verdict, j.p) for j in judged])
-    results = [ClaimResult(claim, j, p_holm=p)
+    results = [ClaimResult(claim, j, p_holm=p, readings=readings(claim, evidence))
                for claim, j, (p, _) in zip(CLAIMS, judged, adjusted)]
     if not nulls:
         return results
@@ -231,6 +241,12 @@ def judge(claim: Claim, evidence: Evidence) -> Judged:
         return Judged(f"not measurable: {error}")
     except Exception as error:      # never let one claim stop the report
         return Judged(f"not measurable ({type(error).__name__}: {error})")
+
+
+def readings(claim: Claim, evidence: Evidence) -> tuple[tuple[str, str], ...]:
+    """The claim's raw verdict at each of its other thresholds (Claim.readings)."""
+    return tuple((label, judge(claim._replace(measure=measure), evidence).verdict)
+                 for label, measure in claim.readings)
 
 
 def null_checks(claim: Claim, evidence: Evidence) -> Nulls:
@@ -292,7 +308,8 @@ def fitness_ahead(ev: Evidence, margin: float) -> Judged:
        "Only a small difference between four- and three-layer econets in latency (Fig 3c)",
        "late latency normal - three-layer (a miss counts as the trial length, as in Fig 3c) "
        "within +-10% of the trial",
-       nulls=(RANDOM,), margin=0.1)
+       nulls=(RANDOM,), margin=0.1, readings={"+-5%": dict(margin=0.05),
+                                              "+-15%": dict(margin=0.15)})
 def latency_close(ev: Evidence, margin: float) -> Judged:
     w, cycles = ev.windows, ev.run_config("normal").evolution.cycles
     late = ev.compare(("normal", "top_latency", w.final), ("three-layer", "top_latency", w.final))
@@ -336,7 +353,8 @@ def more_separations(ev: Evidence, margin: float) -> Judged:
        "(random condition)",
        "late separations per successful trial, three-layer - random, within +-50% of random's "
        "mean (the median of the paired differences, sign test: a mixture)",
-       nulls=(RANDOM,), margin=0.5)
+       nulls=(RANDOM,), margin=0.5, readings={"+-25%": dict(margin=0.25),
+                                              "+-75%": dict(margin=0.75)})
 def separations_at_chance(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
     chance = ev.per_success("random", w.final)
@@ -353,7 +371,8 @@ def separations_at_chance(ev: Evidence, margin: float) -> Judged:
        "Average fitness in the random-movement condition remains near zero (Fig 3a)",
        "late top-20 fitness of random movement <= 1% of the most an econet can score "
        "(trials x cycles)",
-       nulls=(), margin=0.01)
+       nulls=(), margin=0.01, readings={"<= 0.5%": dict(margin=0.005),
+                                        "<= 2%": dict(margin=0.02)})
 def random_fitness_low(ev: Evidence, margin: float) -> Judged:
     e = ev.run_config("random").evolution
     most = e.trials * e.cycles
@@ -384,6 +403,10 @@ def holds_still_early(ev: Evidence, margin: float) -> Judged:
 ALL_TEN, NINE_OF_TEN, EIGHT_OF_TEN = 0.9, 0.8, 0.7
 MOBILE = 0.2           # a joint is mobile when it moves in at least this share of cycles
 STILL = 0.1            # and still when it moves in less than this share
+# Thresholds the paper does not give, read beside the registered ones (Claim.readings)
+LOCK_READINGS = {"85/15": dict(lock=15.0), "80/20": dict(lock=20.0)}
+STILL_READINGS = {"still < 0.15": dict(still=0.15), "still < 0.25": dict(still=0.25),
+                  "mobile > 0.1": dict(mobile=0.1)}
 
 
 @claim("shoulder-locked", LOCKING,
@@ -392,9 +415,12 @@ STILL = 0.1            # and still when it moves in less than this share
        f"locked = late shoulder flexion <= {LOCK:.0f}% or >= {100 - LOCK:.0f}% of cycles; "
        f"share of normal runs locked (Clopper-Pearson): > 0.5 (most runs) replicates, wholly "
        f"below {ALL_TEN} ('all ten runs') is reversed",
-       nulls=(RANDOM,), margin=ALL_TEN - MOST)
-def shoulder_locked(ev: Evidence, margin: float) -> Judged:
-    locked = share([r["locked"] for r in ev.joints()])
+       nulls=(RANDOM,), margin=ALL_TEN - MOST,
+       readings={**LOCK_READINGS, "top 20": dict(group="top"),
+                 "top 20, 80/20": dict(group="top", lock=20.0)})
+def shoulder_locked(ev: Evidence, margin: float, lock: float = LOCK,
+                    group: str = "all") -> Judged:
+    locked = share([r["locked"] for r in ev.joints(lock, group)])
     return Judged(f"share of runs with the shoulder locked: {locked.text()}", (
         most_runs("share of runs locked", locked, ALL_TEN, margin),))
 
@@ -405,9 +431,9 @@ def shoulder_locked(ev: Evidence, margin: float) -> Judged:
        "position from its late mean angle (>= 135 deg extended, <= 45 flexed); share of the "
        f"locked runs locked extended (Clopper-Pearson): > 0.5 replicates, wholly below "
        f"{EIGHT_OF_TEN} ('8 of 10') is reversed",
-       nulls=(RANDOM,), margin=EIGHT_OF_TEN - MOST)
-def lock_position(ev: Evidence, margin: float) -> Judged:
-    rows = ev.joints()
+       nulls=(RANDOM,), margin=EIGHT_OF_TEN - MOST, readings=LOCK_READINGS)
+def lock_position(ev: Evidence, margin: float, lock: float = LOCK) -> Judged:
+    rows = ev.joints(lock)
     locked = [r for r in rows if r["locked"]]
     extended = share([r["position"] == "extended" for r in locked])
     flexed = sum(r["position"] == "flexed" for r in rows)
@@ -415,7 +441,7 @@ def lock_position(ev: Evidence, margin: float) -> Judged:
         f"share of the locked runs locked extended {extended.text()}; {flexed} flexed, "
         f"{len(rows) - len(locked)} not locked", (
             most_runs("share of locked runs locked extended", extended, EIGHT_OF_TEN,
-                      margin),)))
+                      margin),)), lock=lock)
 
 
 @claim("lock-speed", LOCKING,
@@ -423,15 +449,16 @@ def lock_position(ev: Evidence, margin: float) -> Judged:
        "first passage: the first generation the shoulder's flexion, smoothed over G/20, is "
        "dominated; share of runs that lock (Clopper-Pearson) >= 0.5, and the mean first "
        "passage of those that do <= G/4",
-       nulls=(RANDOM, SHUFFLED), margin={"share": MOST_MARGIN, "of G": 1 / 20})
-def lock_speed(ev: Evidence, margin: dict) -> Judged:
-    gens = np.array([r["lock_generation"] for r in ev.joints()], dtype=float)
+       nulls=(RANDOM, SHUFFLED), margin={"share": MOST_MARGIN, "of G": 1 / 20},
+       readings={**LOCK_READINGS, "<= G/10 (the first 20 generations)": dict(quick=0.1)})
+def lock_speed(ev: Evidence, margin: dict, lock: float = LOCK, quick: float = 0.25) -> Judged:
+    gens = np.array([r["lock_generation"] for r in ev.joints(lock)], dtype=float)
     locking = np.isfinite(gens)
     first = estimate(gens[locking])
     ours = (f"first generation of a locked shoulder, over the {locking.sum()} of {len(gens)} "
             f"runs that lock: {first.text(0)}" if locking.any()
             else "no run's shoulder ever locks")
-    speed = (below("first generation locked", bounded(first), ev.G / 4, closed=True, digits=0,
+    speed = (below("first generation locked", bounded(first), ev.G * quick, closed=True, digits=0,
                    margin=margin["of G"] * ev.G),)
     return Judged(ours, (above("share of runs that lock", share(locking), 0.5, closed=True,
                                margin=margin["share"]),
@@ -445,11 +472,14 @@ def lock_speed(ev: Evidence, margin: dict) -> Judged:
        f"and the elbow moving (> 0.5 deg) in >= {MOBILE:.0%} of cycles (an elbow frozen by "
        f"coactivation is not compliant); share of runs compliant (Clopper-Pearson): > 0.5 "
        f"replicates, wholly below {NINE_OF_TEN} ('9 of 10') is reversed",
-       nulls=(RANDOM,), margin=NINE_OF_TEN - MOST)
-def elbow_compliant(ev: Evidence, margin: float) -> Judged:
-    rows = ev.joints()
-    compliant = share([np.isfinite(r["elbow_flexion"]) and not dominated(r["elbow_flexion"])
-                       and r["elbow_moving"] >= MOBILE for r in rows])
+       nulls=(RANDOM,), margin=NINE_OF_TEN - MOST,
+       readings={**LOCK_READINGS, "moving >= 10%": dict(mobile=0.1),
+                 "moving >= 30%": dict(mobile=0.3)})
+def elbow_compliant(ev: Evidence, margin: float, lock: float = LOCK,
+                    mobile: float = MOBILE) -> Judged:
+    rows = ev.joints(lock)
+    compliant = share([np.isfinite(r["elbow_flexion"]) and not dominated(r["elbow_flexion"], lock)
+                       and r["elbow_moving"] >= mobile for r in rows])
     moving = estimate([r["elbow_moving"] for r in rows])
     return Judged(f"share of runs with a compliant elbow (undominated and moving): "
                   f"{compliant.text()}; late share of cycles the elbow moves {moving.text()}", (
@@ -460,15 +490,16 @@ def elbow_compliant(ev: Evidence, margin: float) -> Judged:
        "The shoulder locks while the body axis and the elbow stay mobile",
        f"late share of cycles each joint moves: shoulder < {STILL}, body > {MOBILE}, elbow > "
        f"{MOBILE}",
-       nulls=(RANDOM,), added=True, margin=PROBABILITY_MARGIN)
-def others_mobile(ev: Evidence, margin: float) -> Judged:
+       nulls=(RANDOM,), added=True, margin=PROBABILITY_MARGIN, readings=STILL_READINGS)
+def others_mobile(ev: Evidence, margin: float, still: float = STILL,
+                  mobile: float = MOBILE) -> Judged:
     final = ev.windows.final
     moving = {j: bounded(ev.estimate("normal", f"all_{j}_moving", final), 0, 1)
               for j in ("shoulder", "body", "elbow")}
     return Judged("late share of cycles each joint moves: " + "; ".join(
         f"{j} {e.text()}" for j, e in moving.items()), (
-            below("late shoulder moving share", moving["shoulder"], STILL, margin=margin),
-            *(above(f"late {j} moving share", moving[j], MOBILE, margin=margin)
+            below("late shoulder moving share", moving["shoulder"], still, margin=margin),
+            *(above(f"late {j} moving share", moving[j], mobile, margin=margin)
               for j in ("body", "elbow"))))
 
 
@@ -477,15 +508,16 @@ def others_mobile(ev: Evidence, margin: float) -> Judged:
        "shoulder moving share late - early < 0; share of runs searching with body and elbow "
        f"only (late: shoulder < {STILL}, both others >= {MOBILE}; Clopper-Pearson) > {MOST}",
        nulls=(RANDOM, SHUFFLED), added=True,
-       margin={"moving": PROBABILITY_MARGIN, "share": MOST_MARGIN})
-def two_joint_search(ev: Evidence, margin: dict) -> Judged:
+       margin={"moving": PROBABILITY_MARGIN, "share": MOST_MARGIN}, readings=STILL_READINGS)
+def two_joint_search(ev: Evidence, margin: dict, still: float = STILL,
+                     mobile: float = MOBILE) -> Judged:
     w = ev.windows
     drop = ev.compare(("normal", "all_shoulder_moving", w.final),
                       ("normal", "all_shoulder_moving", w.early))
-    mobile = [min(b, e) >= MOBILE and s < STILL for s, b, e in zip(*(
+    two_joints = [min(b, e) >= mobile and s < still for s, b, e in zip(*(
         ev.per_run("normal", f"all_{j}_moving", w.final).values()
         for j in ("shoulder", "body", "elbow")))]
-    two = share(mobile)
+    two = share(two_joints)
     return Judged(f"shoulder moving share, late - early: {said(drop)}; runs searching with "
                   f"body and elbow only: {two.text()}", (
                       below("shoulder moving share, late - early", drop, margin=margin["moving"]),
@@ -636,7 +668,8 @@ def approach_increases(ev: Evidence, margin: float) -> Judged:
        "Even near the end of training roughly 25% of movements are directed away from the "
        "target",
        "late P(away | fixated) within 0.15-0.35",
-       nulls=(RANDOM,), margin=0.1)
+       nulls=(RANDOM,), margin=0.1, readings={"0.20-0.30": dict(margin=0.05),
+                                              "0.10-0.40": dict(margin=0.15)})
 def quarter_away(ev: Evidence, margin: float) -> Judged:
     away = bounded(ev.estimate("normal", "top_away_fix", ev.windows.final), 0, 1)
     return Judged(f"late P(away | fixated) {away.text(3)}", (
@@ -644,6 +677,7 @@ def quarter_away(ev: Evidence, margin: float) -> Judged:
 
 
 STEREOTYPED = 0.5      # reach starts spread less than half as much as random postures
+START_READINGS = {"< 0.75": dict(bound=0.75), "< 0.9": dict(bound=0.9)}
 
 
 @claim("stereotyped-start", APPROACH,
@@ -651,13 +685,13 @@ STEREOTYPED = 0.5      # reach starts spread less than half as much as random po
        "hand back to the same initial position",
        "lesion test, intact: reach-start spread / spread of hand positions at trial start "
        f"(body frame), per run, < {STEREOTYPED}",
-       nulls=(RANDOM,), margin=PROBABILITY_MARGIN)
-def stereotyped_start(ev: Evidence, margin: float) -> Judged:
+       nulls=(RANDOM,), margin=PROBABILITY_MARGIN, readings=START_READINGS)
+def stereotyped_start(ev: Evidence, margin: float, bound: float = STEREOTYPED) -> Judged:
     ratio = bounded(estimate([s.start_spread_body / s.trial_start_spread_body
                               for s in ev.reaches("intact")]))
     return Judged(f"reach-start spread / trial-start spread (body frame, intact) "
                   f"{ratio.text()}", (below("reach-start / trial-start spread, intact", ratio,
-                                            STEREOTYPED, margin=margin),))
+                                            bound, margin=margin),))
 
 
 LESION_HARMS = [("approach probability", "approach_prob", -1),     # (label, measure, worse
@@ -695,13 +729,14 @@ def lesion_disorganises(ev: Evidence, margin: dict) -> Judged:
        "After the lesion, reaches are no longer initiated from the same position",
        "presupposes stereotyped-start (intact reaches start from one place); reach-start "
        "spread lesioned - intact > 0",
-       nulls=(RANDOM,), margin=SPREAD_MARGIN)
-def lesion_scatters_start(ev: Evidence, margin: float) -> Judged:
+       nulls=(RANDOM,), margin=SPREAD_MARGIN, readings=START_READINGS)
+def lesion_scatters_start(ev: Evidence, margin: float, bound: float = STEREOTYPED) -> Judged:
     spread = ev.paired({i: s.start_spread_body for i, s in enumerate(ev.reaches("lesioned"))},
                        {i: s.start_spread_body for i, s in enumerate(ev.reaches("intact"))})
     return presupposing(("stereotyped-start",), ev, Judged(
         f"reach-start spread (body frame), lesioned - intact: {said(spread, 1)} units", (
-            above("reach-start spread, lesioned - intact", spread, digits=1, margin=margin),)))
+            above("reach-start spread, lesioned - intact", spread, digits=1, margin=margin),)),
+        bound=bound)
 
 
 # -- 4 movement slowdown (Figures 8, 9) ------------------------------------------------------
@@ -709,7 +744,8 @@ def lesion_scatters_start(ev: Evidence, margin: float) -> Judged:
        "The probability of an approach movement at random (random condition) is 0.5 "
        "(Fig 8)",
        "random P(approach | fixated) over all generations within 0.45-0.55",
-       nulls=(), margin=0.05)
+       nulls=(), margin=0.05, readings={"+-0.025": dict(margin=0.025),
+                                        "+-0.01": dict(margin=0.01)})
 def random_at_chance(ev: Evidence, margin: float) -> Judged:
     chance = bounded(ev.estimate("random", "top_approach_fix", slice(0, ev.G)), 0, 1)
     return Judged(f"random P(approach | fixated), all generations {chance.text(3)}", (
@@ -736,7 +772,8 @@ def unfixated_above_chance(ev: Evidence, margin: float) -> Judged:
 @claim("nofix-to-chance", SLOWDOWN,
        "Non-fixated approach probability later declines to chance level (Fig 8)",
        "late P(approach | not fixated), normal - random (paired by run), within +-0.05",
-       nulls=(RANDOM, SHUFFLED), margin=0.05)
+       nulls=(RANDOM, SHUFFLED), margin=0.05, readings={"+-0.025": dict(margin=0.025),
+                                                        "+-0.10": dict(margin=0.1)})
 def unfixated_to_chance(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
     late = against_random(ev, "top_approach_nofix", w.final)
@@ -838,14 +875,15 @@ def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
        "not more movement away (b)",
        "presupposes hand-slowdown (less movement overall: the paper's Figure 9); P(away | "
        "fixated) slowdown dip - slowdown start <= 0.02 (not more movement away)",
-       nulls=(RANDOM, SHUFFLED), margin=PROBABILITY_MARGIN)
-def less_movement(ev: Evidence, margin: float) -> Judged:
+       nulls=(RANDOM, SHUFFLED), margin=PROBABILITY_MARGIN,
+       readings={"<= 0": dict(away_bound=0.0), "<= 0.05": dict(away_bound=0.05)})
+def less_movement(ev: Evidence, margin: float, away_bound: float = 0.02) -> Judged:
     w = ev.windows
     away = ev.compare(("normal", "top_away_fix", w.slowdown_dip),
                       ("normal", "top_away_fix", w.slowdown_start))
     return presupposing(("hand-slowdown",), ev, Judged(
         f"P(away | fixated), slowdown dip - slowdown start: {said(away, 3)}", (
-            below("P(away | fixated), slowdown dip - slowdown start", away, 0.02, closed=True,
+            below("P(away | fixated), slowdown dip - slowdown start", away, away_bound, closed=True,
                   digits=3, margin=margin),)))
 
 

@@ -161,8 +161,8 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _regime, _holding, _architecture, _claims,
-                _windows, _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
-                _optimizers, _sweeps)
+                _thresholds, _windows, _performance, _joint_locking, _coactivation, _approach,
+                _slowdown, _sensitivity, _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
@@ -324,7 +324,8 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
         criteria = "<br>".join(criteria_lines(r.judged)) or "-"
-        flags = "".join(f" (flagged: {flag})" for flag in r.flags)
+        flags = "".join(f" (flagged: {flag})" for flag in r.flags) + (
+            f"<br>at other thresholds: {_readings(r)}" if r.readings else "")
         row = ("| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
                                                 r.ours, criteria)))
                + f" | **{r.verdict}**{flags} | {_p(r.p)}; {_p(r.p_holm)} | {r.adjusted} |")
@@ -344,6 +345,30 @@ def criteria_lines(judged) -> list[str]:
     return [f"premise {judged.premise_key}: {judged.premise.verdict}", *(
         c.text(four=True) for c in judged.premise.criteria),
         f"own criteria: {judged.own[0]}", *own]
+
+
+def _readings(r: ClaimResult) -> str:
+    """A claim's raw verdict at each threshold reading, in words."""
+    return "; ".join(f"{label}: {verdict}" for label, verdict in r.readings)
+
+
+def _thresholds(analysis: Analysis) -> list[str]:
+    """Every verdict that rests on a threshold the paper does not give, beside the same rule at
+    other thresholds (claims.Claim.readings): the registered verdict stands; this says whether
+    it would stand elsewhere."""
+    results = [(i, r) for i, r in enumerate(analysis.claims["base"], 1) if r.readings]
+    if not results:
+        return []
+    return ["## Thresholds the paper does not give\n",
+            "These claims' rules rest on a threshold of ours (a lock at 90/10, a band, a bound "
+            "on a ratio). The registered verdict stands; beside it, the raw verdict of the same "
+            "rule at other thresholds, so that a verdict that flips with the choice says so.\n",
+            "| # | claim | registered rule | verdict (raw; Holm) | at other thresholds (raw) | "
+            "flips |", "|---|---|---|---|---|---|",
+            *(f"| {i} | {r.claim.key} | {_escaped(r.claim.rule)} | {r.verdict}; {r.adjusted} | "
+              f"{_escaped(_readings(r))} | "
+              f"{'yes' if any(v != r.verdict for _, v in r.readings) else 'no'} |"
+              for i, r in results), ""]
 
 
 def _p(p: float) -> str:
@@ -406,7 +431,7 @@ CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "
                  "p_raw", "p_holm", "verdict_holm", "runs_for_80_power", "detectable",
                  "effect_size_dz", "criteria", "null_random_verdict",
                  "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes",
-                 "premise", "premise_verdict", "own_verdict"]
+                 "premise", "premise_verdict", "own_verdict", "threshold_readings"]
 
 
 def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
@@ -428,7 +453,7 @@ def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
         r.chance_flagged, r.flagged,
         "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict),
         r.judged.premise_key, r.judged.premise.verdict if r.judged.premise else "",
-        r.judged.own[0])))
+        r.judged.own[0], _readings(r))))
 
 
 def write_claims_csv(path: Path, results: list[ClaimResult],

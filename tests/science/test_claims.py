@@ -287,3 +287,25 @@ def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
     assert all(set(claim.nulls) <= {C.RANDOM, C.SHUFFLED} for claim in C.CLAIMS)
     assert C.RANDOM not in by_key["random-fitness"].nulls     # it reads random movement itself
     assert C.SHUFFLED in by_key["approach-increases"].nulls   # a time course
+
+
+def test_a_verdict_on_a_threshold_of_ours_is_read_again_at_other_thresholds():
+    """Every run's shoulder flexes on 12% of cycles: not locked at the registered 90/10
+    (reversed), locked in all runs at 85/15 and 80/20; the registered verdict stays."""
+    ev = evidence(normal=joints([12.0] * RUNS))
+    claim = next(c for c in C.CLAIMS if c.key == "shoulder-locked")
+    assert C.judge(claim, ev).verdict == "reversed"
+    assert dict(C.readings(claim, ev)) == {"85/15": "replicates", "80/20": "replicates",
+                                           "top 20": "n/a", "top 20, 80/20": "n/a"}
+    position = next(c for c in C.CLAIMS if c.key == "lock-position")
+    assert C.judge(position, ev).verdict == "premise fails"
+    assert dict(C.readings(position, ev))["85/15"] == "replicates"   # the premise follows
+
+
+def test_the_reach_start_bound_is_read_at_0_75_and_0_9():
+    ratio_08 = [{"intact": reaches(start_spread_body=24 + i % 2), "lesioned": reaches()}
+                for i in range(RUNS)]                      # 0.80-0.83 of the trial-start spread
+    claim = next(c for c in C.CLAIMS if c.key == "stereotyped-start")
+    ev = Evidence({}, ratio_08, Windows(G))
+    assert C.judge(claim, ev).verdict == "reversed"
+    assert dict(C.readings(claim, ev)) == {"< 0.75": "reversed", "< 0.9": "replicates"}

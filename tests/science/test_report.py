@@ -165,3 +165,20 @@ def test_the_optimizer_study_reads_the_four_verdicts(ga, others, expected):
 
 def test_an_estimate_without_runs_gives_no_verdict():
     assert above("x", Estimate(math.nan, math.nan, math.nan, 0)).verdict == "n/a"
+
+
+def test_the_threshold_table_stands_beside_the_registered_verdict_and_says_if_it_flips():
+    locked = result("shoulder-locked", "reversed")._replace(
+        readings=(("85/15", "reversed"), ("80/20", "replicates")))
+    steady = result("stereotyped-start", "reversed")._replace(readings=(("< 0.75", "reversed"),))
+    analysis = SimpleNamespace(claims={"base": [result("fitness", "replicates"), locked,
+                                                steady]})
+    lines = report._thresholds(analysis)
+    assert lines[0] == "## Thresholds the paper does not give\n"
+    rows = [line for line in lines if line.startswith("| 2 |") or line.startswith("| 3 |")]
+    assert rows[0].endswith("| reversed; reversed | 85/15: reversed; 80/20: replicates | yes |")
+    assert rows[1].endswith("| < 0.75: reversed | no |")
+    assert not any(line.startswith("| 1 |") for line in lines)
+    assert "at other thresholds: 85/15: reversed; 80/20: replicates" in report._claims_table(
+        [locked])
+
