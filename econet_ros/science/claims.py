@@ -31,7 +31,7 @@ import numpy as np
 
 from . import holding
 from .evidence import LOCK, Evidence, dominated, first_passage
-from .measures import CHANCE
+from .measures import CHANCE, shared_reaches
 from .series import Windows, per_run, smooth
 from .stats import Paired, bounded, estimate, share
 from .verdicts import (EARLY_AHEAD, MOST, PREMISE_FAILS, REPLICATES, Criterion, above,
@@ -694,6 +694,8 @@ def stereotyped_start(ev: Evidence, margin: float, bound: float = STEREOTYPED) -
                                             bound, margin=margin),))
 
 
+SUCCESSFUL, EVERY_TRIAL, BOTH_REACH = ("successful trials: survivor-biased", "every trial",
+                                      "trials both reach")
 LESION_HARMS = [("approach probability", "approach_prob", -1),     # (label, measure, worse
                 ("path efficiency", "path_efficiency", -1),        # when it moves this way)
                 ("turning per cycle", "turning", +1), ("success rate", "success_rate", -1)]
@@ -703,26 +705,41 @@ LESION_HARMS = [("approach probability", "approach_prob", -1),     # (label, mea
        "Severing the proprioceptive inputs after training disrupts approach movements "
        "(jerky, disorganised)",
        "lesioned - intact per run, signed so that > 0 is worse, for P(approach), path "
-       "efficiency, turning, success rate: each > 0; replicates when at least 3 of the 4 do, "
-       "reversed when 2 or more are",
+       "efficiency (over successful trials, as registered: survivor-biased), turning, success "
+       "rate: each > 0; replicates when at least 3 of the 4 do, reversed when 2 or more are",
        nulls=(RANDOM,), margin={"approach_prob": PROBABILITY_MARGIN,
                                 "path_efficiency": PROBABILITY_MARGIN, "turning": ANGLE_MARGIN,
-                                "success_rate": PROBABILITY_MARGIN})
-def lesion_disorganises(ev: Evidence, margin: dict) -> Judged:
-    intact, lesioned = ev.reaches("intact"), ev.reaches("lesioned")
+                                "success_rate": PROBABILITY_MARGIN},
+       readings={"path efficiency, every trial": dict(efficiency=EVERY_TRIAL),
+                 "path efficiency, trials both reach": dict(efficiency=BOTH_REACH)})
+def lesion_disorganises(ev: Evidence, margin: dict, efficiency: str = SUCCESSFUL) -> Judged:
     texts, criteria = [], []
-    worse_per_run = np.zeros(len(intact))
+    worse_per_run = np.zeros(len(ev.reaches("intact")))
     for label, attr, sign in LESION_HARMS:
-        after = np.array([sign * getattr(b, attr) for b in lesioned])
-        before = np.array([sign * getattr(a, attr) for a in intact])
+        after, before = (sign * values for values in lesion_values(ev, attr, efficiency))
         worse = ev.paired(dict(enumerate(after)), dict(enumerate(before)))
         worse_per_run += np.nan_to_num(after - before) > 0
+        if attr == "path_efficiency":
+            label += f" ({efficiency})"
         criteria.append(above(f"{label}, lesioned - intact (> 0 worse)", worse, digits=3,
                               margin=margin[attr]))
         texts.append(f"{label} {said(worse, 3)}")
     return Judged("lesioned - intact, signed so that > 0 is worse: " + "; ".join(texts)
                   + f"; measures worse per run {estimate(worse_per_run).text(1)} of 4",
                   tuple(criteria), needed=3)
+
+
+def lesion_values(ev: Evidence, attr: str, efficiency: str) -> tuple[np.ndarray, np.ndarray]:
+    """(lesioned, intact) per run of one lesion measure, path efficiency over the trials
+    ``efficiency`` names: the successful ones (survivor-biased: the lesion cuts how many
+    succeed), every trial, or those both intact and lesioned reach."""
+    intact, lesioned = ev.reaches("intact"), ev.reaches("lesioned")
+    if attr == "path_efficiency" and efficiency == BOTH_REACH:
+        shared = [shared_reaches(a, b)["path_efficiency"] for a, b in zip(intact, lesioned)]
+        return np.array([after for _, after in shared]), np.array([b for b, _ in shared])
+    if attr == "path_efficiency" and efficiency == EVERY_TRIAL:
+        attr = "path_efficiency_every_trial"
+    return tuple(np.array([getattr(r, attr) for r in runs]) for runs in (lesioned, intact))
 
 
 @claim("lesion-start", APPROACH,

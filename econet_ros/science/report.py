@@ -23,6 +23,7 @@ from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
+from .measures import shared_reaches
 from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import bounded, estimate, median
@@ -506,9 +507,14 @@ def _approach(analysis: Analysis) -> list[str]:
     return lines + [_lesion_table(analysis.lesions["base"])]
 
 
-LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)", 1),
+SURVIVORS = " (successful trials only: survivor-biased)"
+LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)" + SURVIVORS, 1),
+               ("latency_every_trial", "latency, every trial (a miss = the trial length)", 1),
                ("approach_prob", "P(approach), pre-contact", 2),
-               ("path_efficiency", "path efficiency", 2), ("turning", "turning (deg/cycle)", 1),
+               ("path_efficiency", "path efficiency" + SURVIVORS, 2),
+               ("path_efficiency_every_trial", "path efficiency, every trial (gap closed by "
+                                               "first contact or the trial's end / path)", 2),
+               ("turning", "turning (deg/cycle)", 1),
                ("final_approach_cycles", "final approach (cycles)", 1),
                ("start_spread_body", "reach-start spread, body frame", 1),
                ("start_spread_world", "reach-start spread, workspace", 1),
@@ -532,7 +538,17 @@ def _lesion_table(lesion: list[dict]) -> str:
         cells = [bounded(estimate([getattr(r[kind], attr) for r in lesion])).text(digits)
                  for kind in LESIONS]         # every lesion measure is 0 or more
         rows.append(f"| {label} | " + " | ".join(cells) + " |")
-    return "\n".join(rows) + "\n"
+    return "\n".join(rows + _shared_rows(lesion)) + "\n"
+
+
+def _shared_rows(lesion: list[dict]) -> list[str]:
+    """Latency and path efficiency on the trials that both the intact and the proprioception-
+    severed nets reach (measures.shared_reaches): the lesion's effect without survivor bias."""
+    shared = [shared_reaches(r["intact"], r["lesioned"]) for r in lesion]
+    return [f"| {label}, trials both intact and proprioception-severed reach | " + " | ".join(
+        bounded(estimate([pair[name][i] for pair in shared])).text(digits) for i in (0, 1))
+        + " | - |" for name, label, digits in (("latency", "latency (cycles)", 1),
+                                                ("path_efficiency", "path efficiency", 2))]
 
 
 def _slowdown(analysis: Analysis) -> list[str]:

@@ -309,3 +309,22 @@ def test_the_reach_start_bound_is_read_at_0_75_and_0_9():
     ev = Evidence({}, ratio_08, Windows(G))
     assert C.judge(claim, ev).verdict == "reversed"
     assert dict(C.readings(claim, ev)) == {"< 0.75": "reversed", "< 0.9": "replicates"}
+
+
+def test_the_lesion_is_read_again_without_survivor_bias():
+    """The lesioned nets reach fewer trials, the ones they reach straight: over their
+    successes path efficiency looks better (worse < 0), over every trial it is worse."""
+    runs = [{"intact": reaches(path_efficiency=0.5, path_efficiency_every_trial=0.5,
+                               approach_prob=0.5, success_rate=0.8),
+             "lesioned": reaches(path_efficiency=0.8 + 0.01 * (i % 2),
+                                 path_efficiency_every_trial=0.2 - 0.01 * (i % 3),
+                                 approach_prob=0.4 - 0.01 * (i % 3),
+                                 success_rate=0.3 + 0.01 * (i % 2))} for i in range(RUNS)]
+    ev = Evidence({}, runs, Windows(G))
+    claim = next(c for c in C.CLAIMS if c.key == "lesion-disorganised")
+    registered = C.judge(claim, ev)
+    assert registered.criteria[1].judged == "reversed"
+    assert "survivor-biased" in registered.criteria[1].what
+    every, both = (verdict for _, verdict in C.readings(claim, ev))
+    assert every == "replicates"            # approach, efficiency and success worse: 3 of 4
+    assert both == "n/a"                    # hand-made rows hold no trial-by-trial record
