@@ -34,6 +34,7 @@ DECIDED = 0.05         # a verdict other than inconclusive rests on a test with 
 COUNT = "count"        # the method of a point count (the sign count of a paired comparison)
 MOST = 0.5             # "most runs": a share of runs above one half
 EARLY_AHEAD = 0.8      # "from virtually the start" (Figure 3): ahead early in this share of pairs
+MOST_DIGITS = 6        # an interval is never printed to more digits than this
 
 
 @dataclass(frozen=True)
@@ -154,12 +155,27 @@ class Criterion:
             return f"replicable from n = {fewest_runs(self.low)}"
         return ""
 
+    @property
+    def shown_digits(self) -> int:
+        """The digits that show why the verdict is what it is: self.digits, more while a bound
+        of the interval would print as an edge of the region (or of the no-effect band) that it
+        is not (E2-S's -0.0513 printed as -0.05 hides why it is not absent)."""
+        edges = [x for x in (self.low, self.high, self.floor, *(self.absent_band or ()))
+                 if np.isfinite(x)]
+        bounds = [x for x in (self.interval.lo, self.interval.hi) if np.isfinite(x)]
+        digits = self.digits
+        while digits < MOST_DIGITS and any(f"{b:.{digits}f}" == f"{x:.{digits}f}" and b != x
+                                           for b in bounds for x in edges):
+            digits += 1
+        return digits
+
     def text(self, four: bool = False) -> str:
-        """The criterion in words: its interval, region and verdict (four: the four-way
-        verdict, the margin and the runs its test needs at the margin)."""
+        """The criterion in words: its interval (to the digits that decide it), region and
+        verdict (four: the four-way verdict, the margin and the runs its test needs at the
+        margin)."""
         e, power = self.interval, self.power()
         value = (f"{round(e.mean * e.n)} of {e.n} runs" if e.method == COUNT and e.n
-                 else f"{e.text(self.digits)}, {e.method}")
+                 else f"{e.text(self.shown_digits)}, {e.method}")
         if four and np.isfinite(self.margin):
             value += f"; margin {self.margin:.3g}"
         if four and np.isfinite(self.runs_needed):

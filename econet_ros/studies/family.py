@@ -25,7 +25,7 @@ from ..science.stats import share
 from ..science.sweeps.outcomes import run_series, tidy_rows
 from ..science.sweeps.rules import Swept, rule_of
 from ..science.sweeps.spec import load_sweep
-from ..science.verdicts import (ABSENT, FOUR_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
+from ..science.verdicts import (ABSENT, CLAIM_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
                                 REVERSED)
 from . import experiments, transplant
 from .figures import experiments_figure
@@ -133,11 +133,11 @@ def read_verdicts(path: Path) -> dict[str, tuple[str, str]]:
 
 
 def claims_markdown(study: Path, against: Path | None) -> list[str]:
-    """The tally of E4's claims by the four verdicts, raw and adjusted, and, against an earlier
-    claims table, where its inconclusive claims went."""
+    """The tally of E4's claims by their verdicts ("premise fails" apart from "reversed"), raw
+    and adjusted, and, against an earlier claims table, where its inconclusive claims went."""
     fresh = read_verdicts(study / "claims.csv")
     lines = ["| verdict | raw | after Holm over the claims |", "|---|---|---|"]
-    for verdict in FOUR_VERDICTS:
+    for verdict in CLAIM_VERDICTS:
         raw = sum(v[0] == verdict for v in fresh.values())
         adjusted = sum(v[1] == verdict for v in fresh.values())
         if raw or adjusted:
@@ -149,7 +149,8 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
     for index, name in ((0, "raw"), (1, "after Holm")):
         was = [k for k in fresh if k in earlier and earlier[k][index] == INCONCLUSIVE]
         went = Counter(fresh[k][index] for k in was)
-        moved = ", ".join(f"{went[v]} {v}" for v in FOUR_VERDICTS if went[v] and v != INCONCLUSIVE)
+        moved = ", ".join(f"{went[v]} {v}" for v in CLAIM_VERDICTS
+                          if went[v] and v != INCONCLUSIVE)
         lines.append(f"- {name}: of the {len(was)} claims inconclusive in the earlier table, "
                      f"{len(was) - went[INCONCLUSIVE]} leave inconclusive ({moved or 'none'}); "
                      f"{sum(fresh[k][index] != earlier[k][index] for k in fresh if k in earlier)} "
@@ -165,12 +166,22 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
 NOT_RUN = "Not among the folders given: not judged here."
 
 
+E1_S_GAIN = ("E1-S in words: the units have no biases and decode their weights linearly in "
+             "the range, so widening the range multiplies every unit's gain; a rising "
+             "coefficient says that more saturated units held more often, not that larger "
+             "weights avoid saturation.")
+E2_AS_BUILT = ("As built, E2 cannot tell discovery from maintenance: the screen counts as "
+               "holding a random genome with at most one separation per successful trial, so "
+               "one that brushes past once holds; the transplant's added units output 0.5 "
+               "whatever touch says, so mutating their zero weights can break holding by "
+               "construction. Its verdicts are reported as they fell; neither arm tests what "
+               "its name says (issue 40, E6, re-tests it).")
 E1_TERMS = {"E1-N": ("width", "the last hidden layer widens"),
             "E1-W": ("weights", "the weights grow in number")}
 E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registered sentence
-    REPLICATES: "at equal everything else, holding falls as {change}",
+    REPLICATES: "holding falls as {change}, the fit's other terms held equal",
     ABSENT: "the {term} moves holding by less than the margin",
-    REVERSED: "at equal everything else, holding rises as {change}",
+    REVERSED: "holding rises as {change}, the fit's other terms held equal",
     INCONCLUSIVE: "the {term} coefficient's interval {allows}",
     NOT_JUDGED: "the {term} coefficient could not be measured",
 }
@@ -206,6 +217,9 @@ def e1_sentence(width: str | None, weights: str | None,
         return ("Neither the width of the last hidden layer nor the number of weights moves "
                 "holding by more than the margin.")
     said = [f"Width: {width}; weights: {weights}"]
+    if width == REPLICATES:
+        said.append("so the registered sentence that the width, not the number of weights, "
+                    "decides holding is not reached (it needs the weights absent)")
     verdicts = {"E1-N": width, "E1-W": weights}
     for key, (lo, hi) in (intervals or {}).items():
         term, change = E1_TERMS[key]
@@ -340,6 +354,8 @@ def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
     figure = experiments_figure([(s.spec.name, s.spec.rule["name"] == "e1-range",
                                   experiments.runs_of(s.spec, s.rows)) for s in e1],
                                 out / "figures")
+    if "E1-S" in judgement.adjusted:
+        lines.append(E1_S_GAIN + "\n")
     return lines + ([f"![holding per cell]({figure.relative_to(out)})\n"] if figure else [])
 
 
@@ -354,7 +370,7 @@ def e2_lines(found: Folders, judgement: Judgement) -> list[str]:
     for folder, sweep in found.sweeps:
         if sweep.spec.rule.get("name") in ONSET_RULES:
             lines += [f"Onset, sweep {sweep.spec.name}:\n", *onset_markdown(sweep, folder)]
-    return lines + [*e2_sentences(judgement.adjusted), ""]
+    return lines + [*e2_sentences(judgement.adjusted), E2_AS_BUILT, ""]
 
 
 def experiments_page(folders: list[Path], out: Path, against: Path | None = None,
