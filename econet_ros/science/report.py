@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
-from ..provenance import made_with
+from ..provenance import dirty_warning, made_with
 from . import holding
 from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
@@ -168,7 +168,8 @@ def markdown(analysis: Analysis) -> str:
 
 
 def _title(analysis: Analysis) -> list[str]:
-    return ["# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
+    return [*dirty_warning(),
+            "# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
             f"Made by `econet analyze {analysis.out}` from the study folder `{analysis.out}` "
             "(`econet study` = `scripts/run`). Measures are defined in "
             "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n",

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ResultsError
-from ..provenance import made_with
+from ..provenance import dirty_warning, made_with
 from ..science import holding
 from ..science.stats import share
 from ..science.sweeps.outcomes import run_series, tidy_rows
@@ -324,7 +324,7 @@ def header_lines(found: Folders, out: Path, published: Path | None) -> list[str]
     """The title, the code of the page and of its runs, and each sweep with its summary."""
     runs = [(r["commit"], r["dirty"] is True) for _, s in found.sweeps for r in s.rows
             if r["generations_done"]]
-    lines = ["# Experiments E1-E4 and the independent check\n",
+    lines = [*dirty_warning(), "# Experiments E1-E4 and the independent check\n",
              "Pre-registered in [preregistrations.md](../../preregistrations.md#experiments-e1-e4-"
              "and-an-independent-check-pre-registered-written-and-committed-before-any-of-their-"
              "runs) before any of their runs; each is reported as it fell.\n",
