@@ -399,7 +399,10 @@ def _tally(results: list[ClaimResult]) -> list[str]:
             "|---|" + "---|" * (len(CLAIM_VERDICTS) + 2), *rows, "",
             f"A claim conditional on another is counted as *{PREMISE_FAILS}* when that claim "
             "is absent or reversed, whatever its own criteria say (they are printed beside "
-            "it): its failure is that claim's, counted there.\n"]
+            "it): its failure is that claim's, counted there.\n",
+            "Flagged, every one: " + ("; ".join(
+                f"{i} {r.claim.key} ({r.verdict}: {', '.join(r.flags)})"
+                for i, r in enumerate(results, 1) if r.flags) or "none") + ".\n"]
 
 
 def _windows(analysis: Analysis) -> list[str]:

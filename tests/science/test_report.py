@@ -80,6 +80,11 @@ def test_the_tally_counts_the_verdicts_raw_and_after_holm_premise_fails_apart():
     assert "| the paper's, raw | 2 | 1 | 1 | 2 | 0 | 0 | 6 | 1 |" in lines
     assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 2 | 0 | 6 | 1 |" in lines
     assert "| added, raw | 1 | 0 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    assert lines[-1] == ("Flagged, every one: 4 lock-speed (replicates: cannot tell a time "
+                         "course from a level); 7 others-mobile (inconclusive: replicates on "
+                         "random movement: cannot tell learning from chance); 8 "
+                         "two-joint-search (replicates: cannot tell a time course from a "
+                         "level).\n")
     row = next(line for line in report._claims_table(results).split("\n")
                if line.startswith("| 5 |"))
     assert "**premise fails**" in row and "premise stereotyped-start: reversed" in row
