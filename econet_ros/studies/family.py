@@ -22,9 +22,9 @@ from ..errors import ResultsError
 from ..provenance import dirty_warning, made_with
 from ..science import holding
 from ..science.stats import share
-from ..science.sweeps.outcomes import run_series, tidy_rows
+from ..science.sweeps.outcomes import published_rows, run_series, tidy_rows
 from ..science.sweeps.rules import Swept, rule_of
-from ..science.sweeps.spec import load_sweep
+from ..science.sweeps.spec import load_spec, load_sweep
 from ..science.verdicts import (ABSENT, CLAIM_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
                                 REVERSED)
 from . import experiments, transplant
@@ -48,10 +48,15 @@ class Folders:
     checks: list[Path] = field(default_factory=list)
 
 
-def gather(folders: list[Path]) -> Folders:
-    """Sort the folders by what they hold; ResultsError (one line) for one that holds none."""
+def gather(folders: list[Path], published: Path | None = None) -> Folders:
+    """Sort the folders by what they hold; ResultsError (one line) for one that holds none. A
+    sweep spec (TOML) given instead of a folder stands for its sweep as published in
+    ``published`` (outcomes.csv), judged without its run folders."""
     found = Folders()
     for folder in map(Path, folders):
+        if folder.suffix == ".toml":
+            found.sweeps.append(published_sweep(folder, published))
+            continue
         known = False
         if (folder / "sweep.json").exists():
             spec = load_sweep(folder)
@@ -76,6 +81,16 @@ def gather(folders: list[Path]) -> Folders:
     return found
 
 
+def published_sweep(spec_file: Path, published: Path | None) -> tuple[Path, Swept]:
+    """A sweep from its spec and the outcomes.csv its report published (in PUBLISHED/name)."""
+    spec = load_spec(spec_file)
+    table = (published or Path(".")) / spec.name / "outcomes.csv"
+    if not table.is_file():
+        raise ResultsError(f"{spec_file}: no published outcomes at {table} (give --published "
+                           "the folder of the sweeps' summaries)")
+    return table.parent, Swept(spec, published_rows(table))
+
+
 # -- E2's onset: when each run first holds -----------------------------------------------------
 def onset_generation(folder: Path) -> int | None:
     """The first generation of the first ONSET_WINDOW-generation window (0-19, 20-39, ...) in
@@ -92,7 +107,11 @@ def onset_generation(folder: Path) -> int | None:
 
 
 def onset_markdown(sweep: Swept, folder: Path) -> list[str]:
-    """Per cell: how many runs ever hold a window, and the median onset among them."""
+    """Per cell: how many runs ever hold a window, and the median onset among them (from the
+    run folders: a published sweep without them says so)."""
+    if not any((r.folder(folder) / "run.json").exists() for r in sweep.spec.runs()):
+        return [f"Onset per run: not measurable here (it reads the run folders, which are not "
+                f"stored with the published sweep {sweep.spec.name}).", ""]
     lines = [f"| cell | runs | hold late | ever hold a {ONSET_WINDOW}-generation window | "
              "onset (first generation of that window): median, range |", "|---|---|---|---|---|"]
     for cell in sweep.spec.cells:
@@ -378,7 +397,7 @@ def experiments_page(folders: list[Path], out: Path, against: Path | None = None
     """Write OUT/experiments.md and OUT/figures/; ``published``: where the sweeps' summaries
     are published (linked when there); ``against``: the claims.csv E4's claims are compared
     with."""
-    found, out = gather(folders), Path(out)
+    found, out = gather(folders, published), Path(out)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     judgement = judge(found)
     lines = [*header_lines(found, out, published),

@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from econet_ros.cli import main
+from econet_ros.science.sweeps.report import build_sweep_report
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
 from econet_ros.studies import experiments, family, screen
@@ -162,3 +164,21 @@ def test_the_page_judges_the_family_from_the_folders_given(e3_folder, tmp_path, 
     assert "PASS (made up)" in text and "sweep **tiny-e3** (e3-modularity; 6 runs)" in text
     assert family.E2_AS_BUILT in text and family.E1_S_GAIN not in text    # E1-S not run
     assert f"experiments: {out / 'experiments.md'}" in capsys.readouterr().out
+
+
+def test_a_published_sweep_is_judged_from_its_spec_and_outcomes_as_its_folder_was(
+        e3_folder, tmp_path):
+    """The page judged from the sweep's published outcomes.csv and its spec gives the same
+    family table as from its run folders."""
+    build_sweep_report(e3_folder)
+    published = tmp_path / "published"
+    (published / "tiny-e3").mkdir(parents=True)
+    shutil.copyfile(e3_folder / "outcomes.csv", published / "tiny-e3" / "outcomes.csv")
+    spec = tmp_path / "tiny-e3.toml"
+    spec.write_text(MODULARITY)
+    pages = [family.experiments_page(folders, tmp_path / name, published=published).read_text()
+             for name, folders in (("raw", [e3_folder]), ("stored", [spec]))]
+    tables = [page.split("## E1")[0].split("## The family")[1] for page in pages]
+    assert tables[0] == tables[1] and "| E3-M |" in tables[1]
+    with pytest.raises(family.ResultsError, match="no published outcomes"):
+        family.gather([spec], tmp_path)
