@@ -23,7 +23,7 @@ from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
-from .measures import shared_reaches
+from .measures import ReachSummary, shared_reaches
 from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import bounded, estimate, median
@@ -111,6 +111,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"], moved)
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
+    write_lesion_rows(report.parent / "data" / "lesion.csv", lesions["base"])
     return report, analysis.notes
 
 
@@ -147,6 +148,20 @@ def write_tables(path: Path, groups: dict[str, dict[str, ConditionData]]) -> Non
                     for g in range(data.done[i]):
                         writer.writerow([name, condition, folder.name,
                                          *(_cell(v[i, g]) for v in columns.values())])
+
+
+def write_lesion_rows(path: Path, lesion: list[dict]) -> None:
+    """The lesion test per run and kind (intact, lesioned, vision-lesioned): every measure the
+    lesion claims read (measures.ReachSummary, its per-trial records left out), so the lesion's
+    verdicts can be re-derived without re-running it."""
+    fields = [f.name for f in dataclasses.fields(ReachSummary) if f.type != "tuple"]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["run", "generation", "kind", *fields])
+        writer.writerows([run["run"], run["generation"], kind,
+                          *(_cell(getattr(run[kind], f)) for f in fields)]
+                         for run in lesion for kind in LESIONS)
 
 
 def _cell(value: float) -> str:

@@ -12,6 +12,7 @@ import pytest
 
 from econet_ros.science import report
 from econet_ros.science.claims import CLAIMS, ClaimResult, Judged, Nulls
+from econet_ros.science.measures import ReachSummary
 from econet_ros.science.optimizer_study import Comparison
 from econet_ros.science.series import Windows
 from econet_ros.science.stats import Estimate, paired, share
@@ -187,3 +188,18 @@ def test_the_threshold_table_stands_beside_the_registered_verdict_and_says_if_it
     assert "at other thresholds: 85/15: reversed; 80/20: replicates" in report._claims_table(
         [locked])
 
+
+
+def test_the_lesion_rows_are_published_per_run_and_kind(tmp_path):
+    summary = ReachSummary(0.5, 20.0, 0.6, 0.7, 9.0, 4.0, 3.0, 3.5, 20.0, 30.0, 10,
+                           latency_every_trial=60.0, trial_latency=(20.0, math.nan))
+    runs = [{"run": f"run-0{i}", "generation": 199, "intact": summary, "lesioned": summary,
+             "vision-lesioned": summary} for i in (1, 2)]
+    report.write_lesion_rows(tmp_path / "data" / "lesion.csv", runs)
+    with open(tmp_path / "data" / "lesion.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [(r["run"], r["kind"]) for r in rows][:3] == [
+        ("run-01", "intact"), ("run-01", "lesioned"), ("run-01", "vision-lesioned")]
+    assert len(rows) == 6 and rows[0]["latency_every_trial"] == "60.0"
+    assert rows[0]["path_efficiency"] == "0.7" and "trial_latency" not in rows[0]
+    assert rows[0]["reach_elbow_spread"] == ""                     # NaN: not measured
