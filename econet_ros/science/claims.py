@@ -15,8 +15,8 @@ measure raises ValueError when a condition it needs has no data ("not measurable
 
 Windows (series.SPANS, at G = 200): start = gens 0-4, early = 0-19, dip = 10-49, first
 quarter = 0-49, late = 180-199; the slowdown's (claims 33-37): slowdown start = gen 0, slowdown
-dip = gens 1-19, recovery = gens 20-39. A run's window value is its mean over the window (separations
-per successful trial: the window sums divided); comparisons pair runs by run number (the same
+dip = gens 1-19, recovery = gens 20-39. A run's window value is its mean over the window
+(separations per successful trial: the window sums divided); comparisons pair runs by run number (the same
 seed and trial starts in every condition). Chance is the random condition's level, paired by
 run, not 0.5.
 """
@@ -872,8 +872,8 @@ def early_slowdown(ev: Evidence, kind: str, margin: float) -> Judged:
 
 @claim("slowdown-temporary", SLOWDOWN,
        "The slowdown is early and short-lived (speeds recover later)",
-       "presupposes the slowdown (hand-slowdown and eye-slowdown); fixated speed, recovery (gens 20-39) - slowdown dip (gens 1-19) > 0, hand and "
-       "eye",
+       "presupposes the slowdown (hand-slowdown and eye-slowdown); fixated speed, recovery "
+       "(gens 20-39) - slowdown dip (gens 1-19) > 0, hand and eye",
        nulls=(RANDOM, SHUFFLED), margin={"hand": HAND_MARGIN, "eye": EYE_MARGIN})
 def slowdown_temporary(ev: Evidence, margin: dict) -> Judged:
     w = ev.windows

@@ -107,7 +107,8 @@ def holding_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
 
 
 def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out: Path) -> str:
-    lines = [*dirty_warning(), f"# Sweep '{spec.name}'\n", spec.description + "\n" if spec.description else "",
+    lines = [*dirty_warning(), f"# Sweep '{spec.name}'\n",
+             spec.description + "\n" if spec.description else "",
              f"{len(spec.cells)} cell(s), seeds {', '.join(map(str, spec.seeds))}, "
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
              "by seed. Intervals: 95% Student-t over seeds; d_z = mean difference / "
