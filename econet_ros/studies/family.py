@@ -194,7 +194,7 @@ E2_AS_BUILT = ("As built, E2 cannot tell discovery from maintenance: the screen 
                "one that brushes past once holds; the transplant's added units output 0.5 "
                "whatever touch says, so mutating their zero weights can break holding by "
                "construction. Its verdicts are reported as they fell; neither arm tests what "
-               "its name says (issue 40, E6, re-tests it).")
+               "its name says; a later experiment is to re-test it.")
 E1_TERMS = {"E1-N": ("width", "the last hidden layer widens"),
             "E1-W": ("weights", "the weights grow in number")}
 E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registered sentence
