@@ -910,9 +910,9 @@ def less_movement(ev: Evidence, margin: float, away_bound: float = 0.02) -> Judg
        nulls=(RANDOM, SHUFFLED), added=True, margin=PROBABILITY_MARGIN)
 def keeps_sight(ev: Evidence, margin: float) -> Judged:
     w = ev.windows
-    return increase("share of pre-contact cycles with the object in sight, dip - start",
-                    ev.paired(_fixation_share(ev, w.slowdown_dip),
-                              _fixation_share(ev, w.slowdown_start)), margin)
+    return increase("share of pre-contact cycles with the object in sight, slowdown dip - "
+                    "slowdown start", ev.paired(_fixation_share(ev, w.slowdown_dip),
+                                                _fixation_share(ev, w.slowdown_start)), margin)
 
 
 def _fixation_share(ev: Evidence, window: slice) -> dict[str, float]:
