@@ -121,6 +121,16 @@ def named(commits: str, dirty: bool | None) -> str:
     return text + (" with uncommitted changes" if dirty else "")
 
 
+def dirty_warning() -> list[str]:
+    """A page's first line when this process runs from a tree with uncommitted changes: what
+    such a tree makes cannot be re-made from any commit, so it is no result of record."""
+    me = code()
+    if not me["dirty"]:
+        return []
+    return [f"**Made from a tree with uncommitted changes** (at {named(me['commit'], False)}): "
+            "not a result of record; re-make it from a clean tree.\n"]
+
+
 def made_with(runs: list[tuple[str, bool | None]], registrations: list[str] = ()) -> str:
     """The line near a report's top on its code: the code that made the report, the code that
     made its runs ((commits, dirty) per run, as run_folders.run_code gives them), then the sentences

@@ -34,7 +34,7 @@ class Evidence:
     group: dict[str, ConditionData]
     lesion: list[dict]
     windows: Windows
-    _joints: list[dict] | None = dataclasses.field(default=None, repr=False)
+    _joints: dict = dataclasses.field(default_factory=dict, repr=False)
 
     @property
     def G(self) -> int:
@@ -86,10 +86,12 @@ class Evidence:
         return self.paired(self.per_run(*a), self.per_run(*b), a[1] in MIXTURES)
 
     # -- joints and the lesion ----------------------------------------------------------------
-    def joints(self) -> list[dict]:
-        if self._joints is None:
-            self._joints = joint_table(self.condition("normal"), self.windows)
-        return self._joints
+    def joints(self, lock: float = LOCK, group: str = "all") -> list[dict]:
+        """The normal runs' joint table (joint_table), once per lock threshold and group."""
+        if (lock, group) not in self._joints:
+            self._joints[lock, group] = joint_table(self.condition("normal"), self.windows,
+                                                    lock, group)
+        return self._joints[lock, group]
 
     def reaches(self, kind: str) -> list[ReachSummary]:
         """Reach summaries per normal run, kind "intact", "lesioned" or "vision-lesioned"."""
@@ -121,29 +123,32 @@ def _shuffled(data: ConditionData, rng: np.random.Generator) -> ConditionData:
 
 
 # -- per-run joint classification ----------------------------------------------------------
-def joint_table(data: ConditionData, windows: Windows) -> list[dict]:
+def joint_table(data: ConditionData, windows: Windows, lock: float = LOCK,
+                group: str = "all") -> list[dict]:
     """Per run: final-window flexion % and angle of both joints, whether the shoulder is
-    locked, in which position and from which generation it first is (first passage of the
+    locked (flexion <= lock or >= 100 - lock, in the ``group``'s cycles: all econets or the top
+    20), in which position and from which generation it first is (first passage of the
     smoothed flexion), and how much the elbow moves."""
     final = windows.final
-    columns = ("all_shoulder_flexion", "all_shoulder_angle", "all_elbow_flexion",
+    columns = (f"{group}_shoulder_flexion", f"{group}_shoulder_angle", "all_elbow_flexion",
                "all_elbow_angle", "all_elbow_moving")
     sf, sa, ef, ea, em = (nanmean(per_run(data, c)[:, final], axis=1) for c in columns)
-    full = per_run(data, "all_shoulder_flexion")
+    full = per_run(data, f"{group}_shoulder_flexion")
     rows = []
     for i, path in enumerate(data.run_dirs):
-        locked = bool(np.isfinite(sf[i]) and dominated(sf[i]))
+        locked = bool(np.isfinite(sf[i]) and dominated(sf[i], lock))
         series = smooth(full[i], max(1, windows.G // 20))   # 10-generation running mean
         rows.append({"run": path.name, "shoulder_flexion": sf[i], "shoulder_angle": sa[i],
                      "locked": locked, "position": _position(locked, sa[i]),
-                     "lock_generation": first_passage(dominated(series)),
+                     "lock_generation": first_passage(dominated(series, lock)),
                      "elbow_flexion": ef[i], "elbow_angle": ea[i], "elbow_moving": em[i]})
     return rows
 
 
-def dominated(flexion):
-    """One muscle of the joint wins on (nearly) every cycle."""
-    return (flexion <= LOCK) | (flexion >= 100 - LOCK)
+def dominated(flexion, lock: float = LOCK):
+    """One muscle of the joint wins on (nearly) every cycle: flexion % <= lock or >= 100 -
+    lock."""
+    return (flexion <= lock) | (flexion >= 100 - lock)
 
 
 def first_passage(flags: np.ndarray) -> float:

@@ -240,6 +240,45 @@ class ReachSummary:
     n_reaches: int
     reach_elbow_spread: float = float("nan")   # posture convergence: see elbow_spread
     trial_elbow_spread: float = float("nan")   # the same at trial start (for reference)
+    # Without survivor bias (latency and path efficiency above are over successful trials
+    # only, whose share a lesion changes): every trial, a miss at the trial's length and its
+    # gap closed over the whole trial; per trial (NaN without contact), to pair trials
+    # (shared_reaches)
+    latency_every_trial: float = float("nan")
+    path_efficiency_every_trial: float = float("nan")
+    trial_latency: tuple = ()
+    trial_efficiency: tuple = ()
+
+
+def shared_reaches(a: ReachSummary, b: ReachSummary) -> dict[str, tuple[float, float]]:
+    """Latency and path efficiency of two tests of the same trial starts (intact, lesioned)
+    over the trials both reach: no survivor bias from a lesion that changes which trials
+    succeed. {measure: (a's mean, b's mean)}, NaN where no trial is reached by both."""
+    both = np.isfinite(np.asarray(a.trial_latency, float)) & np.isfinite(
+        np.asarray(b.trial_latency, float))
+    if not both.any():
+        return {"latency": (np.nan, np.nan), "path_efficiency": (np.nan, np.nan)}
+    return {name: tuple(finite_mean(np.asarray(getattr(x, column), float)[both])
+                        for x in (a, b))
+            for name, column in (("latency", "trial_latency"),
+                                 ("path_efficiency", "trial_efficiency"))}
+
+
+def finite_mean(values: np.ndarray) -> float:
+    """The mean of the finite values; NaN when there are none (a trial set with no moves)."""
+    finite = values[np.isfinite(values)]
+    return float(finite.mean()) if finite.size else float("nan")
+
+
+def path_efficiencies(trace: Trace, contact: np.ndarray, hspeed: np.ndarray) -> np.ndarray:
+    """Per trial: the hand-object gap closed from trial start to first contact (to the
+    trial's end without one) over the hand's path over the same cycles; NaN where the hand
+    does not move."""
+    end = np.where(contact >= 0, contact, hspeed.shape[0])
+    path = np.array([hspeed[:c, env].sum() for env, c in enumerate(end)])
+    gap = trace.hand_object_distance
+    closed = gap[0] - gap[end, np.arange(len(end))]
+    return np.where(path > MOVE_EPS, closed / np.where(path > MOVE_EPS, path, 1.0), np.nan)
 
 
 REACH_CYCLES = 10         # the cycles before first contact over which posture spread is taken
@@ -295,4 +334,16 @@ def summarize_reaches(trace: Trace) -> ReachSummary:
         trial_start_spread_body=spread(trial_start),
         n_reaches=int(len(envs)),
         **dict(zip(("reach_elbow_spread", "trial_elbow_spread"), elbow_spread(trace))),
+        **unbiased(trace, contact, hspeed),
     )
+
+
+def unbiased(trace: Trace, contact: np.ndarray, hspeed: np.ndarray) -> dict:
+    """The ReachSummary fields without survivor bias: latency and path efficiency over every
+    trial, and per trial."""
+    reached = contact >= 0
+    efficiency = path_efficiencies(trace, contact, hspeed)
+    return {"latency_every_trial": float(np.mean(np.where(reached, contact, hspeed.shape[0]))),
+            "path_efficiency_every_trial": finite_mean(efficiency),
+            "trial_latency": tuple(np.where(reached, contact, np.nan).tolist()),
+            "trial_efficiency": tuple(np.where(reached, efficiency, np.nan).tolist())}

@@ -17,12 +17,13 @@ import numpy as np
 
 from ..errors import UsageError
 from ..files import ensure_writable, write_atomically
-from ..provenance import made_with
+from ..provenance import dirty_warning, made_with
 from . import holding
 from .claims import LEVEL_LIKE, SHUFFLES, ClaimResult, evaluate
 from .evidence import LOCK, Evidence, joint_table
 from .figures import make_figures
 from .lesion import LESION_TRIALS, lesion_study
+from .measures import ReachSummary, shared_reaches
 from .optimizer_study import Comparison
 from .series import Windows, fmt
 from .stats import bounded, estimate, median
@@ -31,7 +32,7 @@ from .sweeps.outcomes import tidy_rows
 from .sweeps.report import build_sweep_report, holding_markdown
 from .sweeps.rules import Swept, choose_defaults, rule_of
 from .sweeps.spec import load_sweep
-from .verdicts import FOUR_VERDICTS
+from .verdicts import CLAIM_VERDICTS, PREMISE_FAILS
 
 
 @dataclass
@@ -110,6 +111,7 @@ def build_report(out: Path, report: Path | None = None, figures: Path | None = N
     write_atomically(report, markdown(analysis))
     write_claims_csv(report.with_name("claims.csv"), claims["base"], moved)
     write_tables(report.parent / "data" / "per_generation.csv.gz", groups)
+    write_lesion_rows(report.parent / "data" / "lesion.csv", lesions["base"])
     return report, analysis.notes
 
 
@@ -148,6 +150,20 @@ def write_tables(path: Path, groups: dict[str, dict[str, ConditionData]]) -> Non
                                          *(_cell(v[i, g]) for v in columns.values())])
 
 
+def write_lesion_rows(path: Path, lesion: list[dict]) -> None:
+    """The lesion test per run and kind (intact, lesioned, vision-lesioned): every measure the
+    lesion claims read (measures.ReachSummary, its per-trial records left out), so the lesion's
+    verdicts can be re-derived without re-running it."""
+    fields = [f.name for f in dataclasses.fields(ReachSummary) if f.type != "tuple"]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["run", "generation", "kind", *fields])
+        writer.writerows([run["run"], run["generation"], kind,
+                          *(_cell(getattr(run[kind], f)) for f in fields)]
+                         for run in lesion for kind in LESIONS)
+
+
 def _cell(value: float) -> str:
     return "" if not np.isfinite(value) else repr(float(value))
 
@@ -161,13 +177,14 @@ def gaps(groups: dict[str, dict[str, ConditionData]]) -> list[str]:
 
 def markdown(analysis: Analysis) -> str:
     sections = (_title, _settings, _completeness, _regime, _holding, _architecture, _claims,
-                _windows, _performance, _joint_locking, _coactivation, _approach, _slowdown, _sensitivity,
-                _optimizers, _sweeps)
+                _thresholds, _windows, _performance, _joint_locking, _coactivation, _approach,
+                _slowdown, _sensitivity, _optimizers, _sweeps)
     return "\n".join(line for section in sections for line in section(analysis)) + "\n"
 
 
 def _title(analysis: Analysis) -> list[str]:
-    return ["# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
+    return [*dirty_warning(),
+            "# Reproducing Schlesinger, Parisi & Langer (2000): results report\n",
             f"Made by `econet analyze {analysis.out}` from the study folder `{analysis.out}` "
             "(`econet study` = `scripts/run`). Measures are defined in "
             "`docs/analysis.md`; the model's assumptions in `docs/assumptions.md`.\n",
@@ -293,9 +310,15 @@ def _claims(analysis: Analysis) -> list[str]:
             "when it lies within the margin either side of no effect (0 for a difference: the "
             "two one-sided tests at 2.5%); is **reversed** when it lies wholly outside the "
             "region otherwise (for a band, outside the band; for a share of runs, below the "
-            "share the paper's count predicts); and is **inconclusive** otherwise. A claim "
-            "replicates when its criteria do, is reversed when one is, absent when one is "
-            "absent, inconclusive otherwise. **p** is the p-value of the test the verdict rests "
+            "share the paper's count predicts); and is **inconclusive** otherwise. A claim that "
+            "needs all its criteria replicates when they all do, is reversed when one is, "
+            "absent when one is absent (none reversed); a claim that needs k of its m criteria "
+            "(lesion-disorganised: 3 of 4) replicates when k do, is reversed when more than "
+            "m - k are reversed, absent when more than m - k are absent or reversed; "
+            "inconclusive otherwise. A claim conditional on another (its premise, printed "
+            "first among its criteria) is **premise fails** when the premise is absent or "
+            "reversed, whatever its own criteria say (printed beside it), and replicates only "
+            "when both do. **p** is the p-value of the test the verdict rests "
             "on, raw and Holm-adjusted over the family of claims; the **Holm** verdict keeps "
             "the raw one when the adjusted p is below 0.05 and is inconclusive otherwise. "
             "Chance is the random condition's level, paired by run. Beside each criterion: its "
@@ -317,8 +340,9 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
             "|---|---|---|---|---|---|---|---|---|" + ("---|---|" if nulls else "")]
     for i, r in enumerate(results, 1):
         claim = ("*(added)* " if r.claim.added else "") + r.claim.paper
-        criteria = "<br>".join(c.text(four=True) for c in r.judged.criteria) or "-"
-        flags = "".join(f" (flagged: {flag})" for flag in r.flags)
+        criteria = "<br>".join(criteria_lines(r.judged)) or "-"
+        flags = "".join(f" (flagged: {flag})" for flag in r.flags) + (
+            f"<br>at other thresholds: {_readings(r)}" if r.readings else "")
         row = ("| " + " | ".join(map(_escaped, (str(i), r.claim.section, claim, r.claim.rule,
                                                 r.ours, criteria)))
                + f" | **{r.verdict}**{flags} | {_p(r.p)}; {_p(r.p_holm)} | {r.adjusted} |")
@@ -327,6 +351,41 @@ def _claims_table(results: list[ClaimResult], nulls: bool = False) -> str:
             row += f" {r.nulls.random} | {shuffled} |"
         rows.append(row)
     return "\n".join(rows) + "\n"
+
+
+def criteria_lines(judged) -> list[str]:
+    """A claim's criteria in words, its premise (another claim) first when it has one, with
+    the premise's verdict and the claim's own beside it."""
+    own = [c.text(four=True) for c in judged.criteria]
+    if judged.premise is None:
+        return own
+    return [f"premise {judged.premise_key}: {judged.premise.verdict}", *(
+        c.text(four=True) for c in judged.premise.criteria),
+        f"own criteria: {judged.own[0]}", *own]
+
+
+def _readings(r: ClaimResult) -> str:
+    """A claim's raw verdict at each threshold reading, in words."""
+    return "; ".join(f"{label}: {verdict}" for label, verdict in r.readings)
+
+
+def _thresholds(analysis: Analysis) -> list[str]:
+    """Every verdict that rests on a threshold the paper does not give, beside the same rule at
+    other thresholds (claims.Claim.readings): the registered verdict stands; this says whether
+    it would stand elsewhere."""
+    results = [(i, r) for i, r in enumerate(analysis.claims["base"], 1) if r.readings]
+    if not results:
+        return []
+    return ["## Thresholds the paper does not give\n",
+            "These claims' rules rest on a threshold of ours (a lock at 90/10, a band, a bound "
+            "on a ratio). The registered verdict stands; beside it, the raw verdict of the same "
+            "rule at other thresholds, so that a verdict that flips with the choice says so.\n",
+            "| # | claim | registered rule | verdict (raw; Holm) | at other thresholds (raw) | "
+            "flips |", "|---|---|---|---|---|---|",
+            *(f"| {i} | {r.claim.key} | {_escaped(r.claim.rule)} | {r.verdict}; {r.adjusted} | "
+              f"{_escaped(_readings(r))} | "
+              f"{'yes' if any(v != r.verdict for _, v in r.readings) else 'no'} |"
+              for i, r in results), ""]
 
 
 def _p(p: float) -> str:
@@ -339,52 +398,60 @@ def _escaped(text: str) -> str:
 
 
 def _tally(results: list[ClaimResult]) -> list[str]:
-    """The four verdicts counted for the paper's claims apart from the added ones, raw and
-    after Holm's correction, and how many of each row are flagged by a null."""
+    """The verdicts counted for the paper's claims apart from the added ones, raw and after
+    Holm's correction ("premise fails" apart from "reversed": a failure is counted once, where
+    it was measured), and how many of each row are flagged by a null."""
     rows = []
     for whose, added in (("the paper's", False), ("added", True)):
         group = [r for r in results if r.claim.added == added]
         flagged = sum(bool(r.flags) for r in group)
         for label, verdict_of in (("raw", lambda r: r.verdict), ("Holm", lambda r: r.adjusted)):
             rows.append(f"| {whose}, {label} | " + " | ".join(
-                str(sum(verdict_of(r) == v for r in group)) for v in FOUR_VERDICTS)
+                str(sum(verdict_of(r) == v for r in group)) for v in CLAIM_VERDICTS)
                 + f" | {len(group)} | {flagged} |")
     return ["\nTally (flagged: by either null; their verdicts say little about the claim):\n",
-            "| claims | " + " | ".join(FOUR_VERDICTS) + " | all | of them flagged |",
-            "|---|" + "---|" * (len(FOUR_VERDICTS) + 2), *rows, ""]
+            "| claims | " + " | ".join(CLAIM_VERDICTS) + " | all | of them flagged |",
+            "|---|" + "---|" * (len(CLAIM_VERDICTS) + 2), *rows, "",
+            f"A claim conditional on another is counted as *{PREMISE_FAILS}* when that claim "
+            "is absent or reversed, whatever its own criteria say (they are printed beside "
+            "it): its failure is that claim's, counted there.\n",
+            "Flagged, every one: " + ("; ".join(
+                f"{i} {r.claim.key} ({r.verdict}: {', '.join(r.flags)})"
+                for i, r in enumerate(results, 1) if r.flags) or "none") + ".\n"]
 
 
 def _windows(analysis: Analysis) -> list[str]:
-    """Which verdicts change when the early or the late window moves."""
+    """Which verdicts change when a window moves: one row a moved window, with the claims whose
+    verdict changes there; then the claims that depend on any window."""
     if not analysis.moved_windows:
         return []
-    w, base = analysis.windows, analysis.claims["base"]
-    labels = list(analysis.moved_windows)
-    changed = [(i, r, [analysis.moved_windows[label][i].verdict for label in labels])
-               for i, r in enumerate(base)]
-    changed = [(i, r, v) for i, r, v in changed if any(x != r.verdict for x in v)]
-    spans = {label: f"{label} ({w.label(other.early if other.early != w.early else other.final)})"
-             for label, other in w.moved().items()}
-    lines = ["## Do the verdicts depend on the windows?\n",
-             f"Every claim judged again with the early window ({w.label(w.early)}) moved to "
-             f"the first 5% and 15% of the generations and the late window "
-             f"({w.label(w.final)}) to the last 5% and 15%, one at a time (start, dip and "
-             "first quarter stay). Claims whose verdict changes:\n"]
-    if not changed:
-        return lines + ["None: no claim's verdict depends on these windows.\n"]
-    return lines + ["| # | claim | as judged | " + " | ".join(spans[x] for x in labels) + " |",
-                    "|---|---|---|" + "---|" * len(labels),
-                    *(f"| {i + 1} | {r.claim.key} | {r.verdict} | " + " | ".join(v) + " |"
-                      for i, r, v in changed),
-                    f"\nEvery other claim ({len(base) - len(changed)} of {len(base)}) keeps its "
-                    "verdict.\n"]
+    base = analysis.claims["base"]
+    rows = [(label, [(r, m.verdict) for r, m in zip(base, moved) if m.verdict != r.verdict])
+            for label, moved in analysis.moved_windows.items()]
+    depend = sorted({base.index(r) for _, changed in rows for r, _ in changed})
+    w = analysis.windows
+    spans = "; ".join(f"{name} {w.label(w.span(name))}" for name, _ in w.spans)
+    return ["## Do the verdicts depend on the windows?\n",
+            f"Registered windows: {spans} (docs/analysis.md, 'Windows'). Every claim judged "
+            "again with each window moved, one at a time, to half and one and a half times its "
+            "length, and the slowdown's also to the windows registered before 2026-12-07:\n",
+            "| window moved to | claims whose verdict changes (registered -> moved) |",
+            "|---|---|",
+            *(f"| {label} | " + ("; ".join(f"{base.index(r) + 1} {r.claim.key}: {r.verdict} -> "
+                                           f"{v}" for r, v in changed) or "none") + " |"
+              for label, changed in rows),
+            f"\n{len(depend)} of {len(base)} claims depend on where a window lies"
+            + (": " + ", ".join(f"{i + 1} {base[i].claim.key}" for i in depend) if depend
+               else "") + f"; the other {len(base) - len(depend)} keep their verdict under "
+            "every move.\n"]
 
 
 CLAIM_COLUMNS = ["number", "key", "section", "added", "paper", "rule", "ours", "criterion",
                  "estimate", "ci_low", "ci_high", "method", "n", "region", "margin", "verdict",
                  "p_raw", "p_holm", "verdict_holm", "runs_for_80_power", "detectable",
                  "effect_size_dz", "criteria", "null_random_verdict",
-                 "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes"]
+                 "null_shuffled_replicates", "flag_random", "flag_shuffled", "window_changes",
+                 "premise", "premise_verdict", "own_verdict", "threshold_readings"]
 
 
 def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
@@ -401,10 +468,12 @@ def claim_row(number: int, r: ClaimResult, moved: dict[str, str]) -> dict:
           else (nan, nan, nan, "", 0, "", nan)),
         r.verdict, r.p, r.p_holm, r.adjusted, c.runs_needed if c else nan,
         c.detectable if c else nan, c.comparison.effect if c and c.comparison else nan,
-        "; ".join(x.text(four=True) for x in r.judged.criteria),
+        "; ".join(criteria_lines(r.judged)),
         r.nulls.random if r.nulls else "", r.nulls.shuffled if r.nulls else nan,
         r.chance_flagged, r.flagged,
-        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict))))
+        "; ".join(f"{label}: {v}" for label, v in moved.items() if v != r.verdict),
+        r.judged.premise_key, r.judged.premise.verdict if r.judged.premise else "",
+        r.judged.own[0], _readings(r))))
 
 
 def write_claims_csv(path: Path, results: list[ClaimResult],
@@ -457,9 +526,14 @@ def _approach(analysis: Analysis) -> list[str]:
     return lines + [_lesion_table(analysis.lesions["base"])]
 
 
-LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)", 1),
+SURVIVORS = " (successful trials only: survivor-biased)"
+LESION_ROWS = [("success_rate", "success rate", 2), ("latency", "latency (cycles)" + SURVIVORS, 1),
+               ("latency_every_trial", "latency, every trial (a miss = the trial length)", 1),
                ("approach_prob", "P(approach), pre-contact", 2),
-               ("path_efficiency", "path efficiency", 2), ("turning", "turning (deg/cycle)", 1),
+               ("path_efficiency", "path efficiency" + SURVIVORS, 2),
+               ("path_efficiency_every_trial", "path efficiency, every trial (gap closed by "
+                                               "first contact or the trial's end / path)", 2),
+               ("turning", "turning (deg/cycle)", 1),
                ("final_approach_cycles", "final approach (cycles)", 1),
                ("start_spread_body", "reach-start spread, body frame", 1),
                ("start_spread_world", "reach-start spread, workspace", 1),
@@ -483,7 +557,17 @@ def _lesion_table(lesion: list[dict]) -> str:
         cells = [bounded(estimate([getattr(r[kind], attr) for r in lesion])).text(digits)
                  for kind in LESIONS]         # every lesion measure is 0 or more
         rows.append(f"| {label} | " + " | ".join(cells) + " |")
-    return "\n".join(rows) + "\n"
+    return "\n".join(rows + _shared_rows(lesion)) + "\n"
+
+
+def _shared_rows(lesion: list[dict]) -> list[str]:
+    """Latency and path efficiency on the trials that both the intact and the proprioception-
+    severed nets reach (measures.shared_reaches): the lesion's effect without survivor bias."""
+    shared = [shared_reaches(r["intact"], r["lesioned"]) for r in lesion]
+    return [f"| {label}, trials both intact and proprioception-severed reach | " + " | ".join(
+        bounded(estimate([pair[name][i] for pair in shared])).text(digits) for i in (0, 1))
+        + " | - |" for name, label, digits in (("latency", "latency (cycles)", 1),
+                                                ("path_efficiency", "path efficiency", 2))]
 
 
 def _slowdown(analysis: Analysis) -> list[str]:

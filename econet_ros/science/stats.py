@@ -56,13 +56,15 @@ class Estimate:
     method: str = T_MEAN
     se: float = math.nan          # the t interval's standard error (its test needs it)
     sample: tuple = ()            # the values of an order-statistic interval (its sign test)
+    sizes: tuple = ()             # a two-sample interval's two n (n is the smaller)
 
     def text(self, digits: int = 2) -> str:
         if not self.n:
             return "n/a"
+        n = ", ".join(map(str, self.sizes or (self.n,)))
         if not np.isfinite(self.lo):
-            return f"{self.mean:.{digits}f} (n={self.n})"
-        return f"{self.mean:.{digits}f} [{self.lo:.{digits}f}, {self.hi:.{digits}f}] (n={self.n})"
+            return f"{self.mean:.{digits}f} (n={n})"
+        return f"{self.mean:.{digits}f} [{self.lo:.{digits}f}, {self.hi:.{digits}f}] (n={n})"
 
 
 NOT_MEASURED = Estimate(math.nan, math.nan, math.nan, 0)
@@ -146,7 +148,7 @@ def share_difference(a, b, level: float = LEVEL) -> Estimate:
     (la, ua), (lb, ub) = wilson(ka, na, level), wilson(kb, nb, level)
     d = pa - pb
     return Estimate(d, d - math.hypot(pa - la, ub - pb), d + math.hypot(ua - pa, pb - lb),
-                    min(na, nb), NEWCOMBE)
+                    min(na, nb), NEWCOMBE, sizes=(na, nb))
 
 
 def median(values) -> Estimate:

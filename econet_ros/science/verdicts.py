@@ -7,7 +7,9 @@ smallest effect of interest (its margin): replicates; absent when the interval l
 margin of a region edge that means "no effect" (the two one-sided tests); reversed when it lies
 wholly outside the region otherwise; inconclusive. A claim with several criteria replicates
 when all of them do (or as many as it needs), is reversed (or absent) when too many are for
-that, and is inconclusive otherwise; "n/a" when something was not measured. Each verdict has
+that, and is inconclusive otherwise; "n/a" when something was not measured. A claim
+conditional on another (its premise) has a fifth verdict, "premise fails", when the premise is
+absent or reversed, its own criteria reported beside it (given). Each verdict has
 the p-value of the test it rests on, for the family's correction (stats.holm). Every claim
 states its criteria and nothing else decides its verdict. ROS-free."""
 from __future__ import annotations
@@ -25,10 +27,14 @@ REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED = ("replicates", "contradicte
 VERDICTS = (REPLICATES, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED)
 ABSENT, REVERSED = "absent", "reversed"
 FOUR_VERDICTS = (REPLICATES, ABSENT, REVERSED, INCONCLUSIVE, NOT_JUDGED)
+PREMISE_FAILS = "premise fails"   # a conditional claim whose premise (another claim) fails
+CLAIM_VERDICTS = (REPLICATES, ABSENT, REVERSED, PREMISE_FAILS, INCONCLUSIVE, NOT_JUDGED)
+FAILED = (ABSENT, REVERSED, PREMISE_FAILS)     # a premise judged so does not hold
 DECIDED = 0.05         # a verdict other than inconclusive rests on a test with p below this
 COUNT = "count"        # the method of a point count (the sign count of a paired comparison)
 MOST = 0.5             # "most runs": a share of runs above one half
 EARLY_AHEAD = 0.8      # "from virtually the start" (Figure 3): ahead early in this share of pairs
+MOST_DIGITS = 6        # an interval is never printed to more digits than this
 
 
 @dataclass(frozen=True)
@@ -149,12 +155,27 @@ class Criterion:
             return f"replicable from n = {fewest_runs(self.low)}"
         return ""
 
+    @property
+    def shown_digits(self) -> int:
+        """The digits that show why the verdict is what it is: self.digits, more while a bound
+        of the interval would print as an edge of the region (or of the no-effect band) that it
+        is not (E2-S's -0.0513 printed as -0.05 hides why it is not absent)."""
+        edges = [x for x in (self.low, self.high, self.floor, *(self.absent_band or ()))
+                 if np.isfinite(x)]
+        bounds = [x for x in (self.interval.lo, self.interval.hi) if np.isfinite(x)]
+        digits = self.digits
+        while digits < MOST_DIGITS and any(f"{b:.{digits}f}" == f"{x:.{digits}f}" and b != x
+                                           for b in bounds for x in edges):
+            digits += 1
+        return digits
+
     def text(self, four: bool = False) -> str:
-        """The criterion in words: its interval, region and verdict (four: the four-way
-        verdict, the margin and the runs its test needs at the margin)."""
+        """The criterion in words: its interval (to the digits that decide it), region and
+        verdict (four: the four-way verdict, the margin and the runs its test needs at the
+        margin)."""
         e, power = self.interval, self.power()
         value = (f"{round(e.mean * e.n)} of {e.n} runs" if e.method == COUNT and e.n
-                 else f"{e.text(self.digits)}, {e.method}")
+                 else f"{e.text(self.shown_digits)}, {e.method}")
         if four and np.isfinite(self.margin):
             value += f"; margin {self.margin:.3g}"
         if four and np.isfinite(self.runs_needed):
@@ -282,6 +303,21 @@ def decide(criteria: Sequence[Criterion], needed: int | None = None) -> tuple[st
     if NOT_JUDGED in verdicts:
         return NOT_JUDGED, math.nan
     return INCONCLUSIVE, min(p.values())
+
+
+def given(premise: tuple[str, float], own: tuple[str, float]) -> tuple[str, float]:
+    """A conditional claim's verdict and p-value from its premise's and its own criteria's: a
+    failed premise makes it "premise fails" (the premise's p), so that a failure is counted
+    once, where it was measured; a premise that replicates leaves its own verdict (replicates
+    needs both: the larger p); an undecided premise leaves it too, but never "replicates"."""
+    (premise_verdict, premise_p), (verdict, p) = premise, own
+    if premise_verdict in FAILED:
+        return PREMISE_FAILS, premise_p
+    if premise_verdict == NOT_JUDGED:
+        return NOT_JUDGED, math.nan
+    if verdict != REPLICATES:
+        return verdict, p
+    return (REPLICATES, max(p, premise_p)) if premise_verdict == REPLICATES else (INCONCLUSIVE, p)
 
 
 def after_holm(verdict: str, adjusted_p: float) -> str:

@@ -19,13 +19,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ResultsError
-from ..provenance import made_with
+from ..provenance import dirty_warning, made_with
 from ..science import holding
 from ..science.stats import share
-from ..science.sweeps.outcomes import run_series, tidy_rows
+from ..science.sweeps.outcomes import published_rows, run_series, tidy_rows
 from ..science.sweeps.rules import Swept, rule_of
-from ..science.sweeps.spec import load_sweep
-from ..science.verdicts import (ABSENT, FOUR_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
+from ..science.sweeps.spec import load_spec, load_sweep
+from ..science.verdicts import (ABSENT, CLAIM_VERDICTS, INCONCLUSIVE, NOT_JUDGED, REPLICATES,
                                 REVERSED)
 from . import experiments, transplant
 from .figures import experiments_figure
@@ -48,10 +48,15 @@ class Folders:
     checks: list[Path] = field(default_factory=list)
 
 
-def gather(folders: list[Path]) -> Folders:
-    """Sort the folders by what they hold; ResultsError (one line) for one that holds none."""
+def gather(folders: list[Path], published: Path | None = None) -> Folders:
+    """Sort the folders by what they hold; ResultsError (one line) for one that holds none. A
+    sweep spec (TOML) given instead of a folder stands for its sweep as published in
+    ``published`` (outcomes.csv), judged without its run folders."""
     found = Folders()
     for folder in map(Path, folders):
+        if folder.suffix == ".toml":
+            found.sweeps.append(published_sweep(folder, published))
+            continue
         known = False
         if (folder / "sweep.json").exists():
             spec = load_sweep(folder)
@@ -76,6 +81,16 @@ def gather(folders: list[Path]) -> Folders:
     return found
 
 
+def published_sweep(spec_file: Path, published: Path | None) -> tuple[Path, Swept]:
+    """A sweep from its spec and the outcomes.csv its report published (in PUBLISHED/name)."""
+    spec = load_spec(spec_file)
+    table = (published or Path(".")) / spec.name / "outcomes.csv"
+    if not table.is_file():
+        raise ResultsError(f"{spec_file}: no published outcomes at {table} (give --published "
+                           "the folder of the sweeps' summaries)")
+    return table.parent, Swept(spec, published_rows(table))
+
+
 # -- E2's onset: when each run first holds -----------------------------------------------------
 def onset_generation(folder: Path) -> int | None:
     """The first generation of the first ONSET_WINDOW-generation window (0-19, 20-39, ...) in
@@ -92,7 +107,11 @@ def onset_generation(folder: Path) -> int | None:
 
 
 def onset_markdown(sweep: Swept, folder: Path) -> list[str]:
-    """Per cell: how many runs ever hold a window, and the median onset among them."""
+    """Per cell: how many runs ever hold a window, and the median onset among them (from the
+    run folders: a published sweep without them says so)."""
+    if not any((r.folder(folder) / "run.json").exists() for r in sweep.spec.runs()):
+        return [f"Onset per run: not measurable here (it reads the run folders, which are not "
+                f"stored with the published sweep {sweep.spec.name}).", ""]
     lines = [f"| cell | runs | hold late | ever hold a {ONSET_WINDOW}-generation window | "
              "onset (first generation of that window): median, range |", "|---|---|---|---|---|"]
     for cell in sweep.spec.cells:
@@ -133,11 +152,11 @@ def read_verdicts(path: Path) -> dict[str, tuple[str, str]]:
 
 
 def claims_markdown(study: Path, against: Path | None) -> list[str]:
-    """The tally of E4's claims by the four verdicts, raw and adjusted, and, against an earlier
-    claims table, where its inconclusive claims went."""
+    """The tally of E4's claims by their verdicts ("premise fails" apart from "reversed"), raw
+    and adjusted, and, against an earlier claims table, where its inconclusive claims went."""
     fresh = read_verdicts(study / "claims.csv")
     lines = ["| verdict | raw | after Holm over the claims |", "|---|---|---|"]
-    for verdict in FOUR_VERDICTS:
+    for verdict in CLAIM_VERDICTS:
         raw = sum(v[0] == verdict for v in fresh.values())
         adjusted = sum(v[1] == verdict for v in fresh.values())
         if raw or adjusted:
@@ -149,7 +168,8 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
     for index, name in ((0, "raw"), (1, "after Holm")):
         was = [k for k in fresh if k in earlier and earlier[k][index] == INCONCLUSIVE]
         went = Counter(fresh[k][index] for k in was)
-        moved = ", ".join(f"{went[v]} {v}" for v in FOUR_VERDICTS if went[v] and v != INCONCLUSIVE)
+        moved = ", ".join(f"{went[v]} {v}" for v in CLAIM_VERDICTS
+                          if went[v] and v != INCONCLUSIVE)
         lines.append(f"- {name}: of the {len(was)} claims inconclusive in the earlier table, "
                      f"{len(was) - went[INCONCLUSIVE]} leave inconclusive ({moved or 'none'}); "
                      f"{sum(fresh[k][index] != earlier[k][index] for k in fresh if k in earlier)} "
@@ -165,12 +185,22 @@ def claims_markdown(study: Path, against: Path | None) -> list[str]:
 NOT_RUN = "Not among the folders given: not judged here."
 
 
+E1_S_GAIN = ("E1-S in words: the units have no biases and decode their weights linearly in "
+             "the range, so widening the range multiplies every unit's gain; a rising "
+             "coefficient says that more saturated units held more often, not that larger "
+             "weights avoid saturation.")
+E2_AS_BUILT = ("As built, E2 cannot tell discovery from maintenance: the screen counts as "
+               "holding a random genome with at most one separation per successful trial, so "
+               "one that brushes past once holds; the transplant's added units output 0.5 "
+               "whatever touch says, so mutating their zero weights can break holding by "
+               "construction. Its verdicts are reported as they fell; neither arm tests what "
+               "its name says; a later experiment is to re-test it.")
 E1_TERMS = {"E1-N": ("width", "the last hidden layer widens"),
             "E1-W": ("weights", "the weights grow in number")}
 E1_UNREGISTERED = {   # each coefficient in words where the pair fits no registered sentence
-    REPLICATES: "at equal everything else, holding falls as {change}",
+    REPLICATES: "holding falls as {change}, the fit's other terms held equal",
     ABSENT: "the {term} moves holding by less than the margin",
-    REVERSED: "at equal everything else, holding rises as {change}",
+    REVERSED: "holding rises as {change}, the fit's other terms held equal",
     INCONCLUSIVE: "the {term} coefficient's interval {allows}",
     NOT_JUDGED: "the {term} coefficient could not be measured",
 }
@@ -206,6 +236,9 @@ def e1_sentence(width: str | None, weights: str | None,
         return ("Neither the width of the last hidden layer nor the number of weights moves "
                 "holding by more than the margin.")
     said = [f"Width: {width}; weights: {weights}"]
+    if width == REPLICATES:
+        said.append("so the registered sentence that the width, not the number of weights, "
+                    "decides holding is not reached (it needs the weights absent)")
     verdicts = {"E1-N": width, "E1-W": weights}
     for key, (lo, hi) in (intervals or {}).items():
         term, change = E1_TERMS[key]
@@ -310,7 +343,7 @@ def header_lines(found: Folders, out: Path, published: Path | None) -> list[str]
     """The title, the code of the page and of its runs, and each sweep with its summary."""
     runs = [(r["commit"], r["dirty"] is True) for _, s in found.sweeps for r in s.rows
             if r["generations_done"]]
-    lines = ["# Experiments E1-E4 and the independent check\n",
+    lines = [*dirty_warning(), "# Experiments E1-E4 and the independent check\n",
              "Pre-registered in [preregistrations.md](../../preregistrations.md#experiments-e1-e4-"
              "and-an-independent-check-pre-registered-written-and-committed-before-any-of-their-"
              "runs) before any of their runs; each is reported as it fell.\n",
@@ -340,6 +373,8 @@ def e1_lines(found: Folders, judgement: Judgement, out: Path) -> list[str]:
     figure = experiments_figure([(s.spec.name, s.spec.rule["name"] == "e1-range",
                                   experiments.runs_of(s.spec, s.rows)) for s in e1],
                                 out / "figures")
+    if "E1-S" in judgement.adjusted:
+        lines.append(E1_S_GAIN + "\n")
     return lines + ([f"![holding per cell]({figure.relative_to(out)})\n"] if figure else [])
 
 
@@ -354,7 +389,7 @@ def e2_lines(found: Folders, judgement: Judgement) -> list[str]:
     for folder, sweep in found.sweeps:
         if sweep.spec.rule.get("name") in ONSET_RULES:
             lines += [f"Onset, sweep {sweep.spec.name}:\n", *onset_markdown(sweep, folder)]
-    return lines + [*e2_sentences(judgement.adjusted), ""]
+    return lines + [*e2_sentences(judgement.adjusted), E2_AS_BUILT, ""]
 
 
 def experiments_page(folders: list[Path], out: Path, against: Path | None = None,
@@ -362,7 +397,7 @@ def experiments_page(folders: list[Path], out: Path, against: Path | None = None
     """Write OUT/experiments.md and OUT/figures/; ``published``: where the sweeps' summaries
     are published (linked when there); ``against``: the claims.csv E4's claims are compared
     with."""
-    found, out = gather(folders), Path(out)
+    found, out = gather(folders, published), Path(out)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     judgement = judge(found)
     lines = [*header_lines(found, out, published),

@@ -2,7 +2,8 @@
 any run: every cell of a screen spec (examples/sweeps/e2-screen.toml: the networks, the seeds,
 the population) scores the random genomes of its runs' first generation, no evolution, and
 OUT/screen.csv keeps, per cell and seed, how many genomes reach and how many of them hold, beside
-OUT/screen.json (the spec as read). The experiments' page reads the folder; it never screens."""
+OUT/screen.json (the spec as read) and OUT/screen-genomes.csv (every genome's successful trials,
+separations and kind). The experiments' page reads the folder; it never screens."""
 from __future__ import annotations
 
 import csv
@@ -22,8 +23,9 @@ from ..science.stats import share, share_difference
 from ..science.sweeps.plan import SweepSpec
 from ..science.verdicts import Criterion
 
-TABLE, SPEC = "screen.csv", "screen.json"
+TABLE, SPEC, GENOMES = "screen.csv", "screen.json", "screen-genomes.csv"
 COLUMNS = ("cell", "condition", "seed", "genomes", "reach", "hold")
+GENOME_COLUMNS = ("cell", "condition", "seed", "genome", "successes", "separations", "kind")
 MARGIN = RANGE_SHARE      # E2-S: a share's margin, 5% of its range
 
 
@@ -39,41 +41,61 @@ class Screened:
         return f"{self.spec.seeds[0]}-{self.spec.seeds[-1]}"
 
 
-def screen_genomes(config: Config, seeds) -> np.ndarray:
-    """Whether each random genome that reaches holds (1.0) or brushes (0.0), no evolution: per
-    seed, the first generation a run of that seed (run 1) draws, each econet scored on that
-    generation's trials; a genome holds by the run's rule (at most one separation per
-    successful trial over its trials)."""
+def scored_genomes(config: Config, seed: int) -> list[tuple[float, float]]:
+    """(successful trials, separations), summed over its trials, of every random genome a run
+    of this seed (run 1) draws in its first generation, each scored on that generation's
+    trials, no evolution."""
     evaluator = InProcessEvaluator(config)
-    flags = []
-    for seed in seeds:
-        genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
-        m = evaluator.test_generation(genomes, seed, 1, 0).measures
-        ratios = [holding.per_success(sep, hit) for sep, hit in zip(m.separations, m.success)]
-        flags += [float(holding.kind(r) == holding.HOLDS) for r in ratios if np.isfinite(r)]
-    return np.array(flags)
+    genomes = initial_genomes(config, evaluator.n_weights, seed, 1)
+    m = evaluator.test_generation(genomes, seed, 1, 0).measures
+    return [(float(np.nansum(hit)), float(np.nansum(sep)))
+            for sep, hit in zip(m.separations, m.success)]
 
 
-def screen_rows(spec: SweepSpec) -> list[dict]:
-    """Per cell, condition and seed: the genomes drawn, how many reach, how many of them hold."""
-    rows = []
+def genome_kind(successes: float, separations: float) -> str:
+    """A genome holds, brushes or does not reach by the run's rule: at most one separation per
+    successful trial over its trials."""
+    return holding.kind(holding.per_success(separations, successes))
+
+
+def screen_genomes(config: Config, seeds) -> np.ndarray:
+    """Whether each random genome that reaches holds (1.0) or brushes (0.0), over the seeds."""
+    kinds = [genome_kind(*scored) for seed in seeds for scored in scored_genomes(config, seed)]
+    return np.array([float(k == holding.HOLDS) for k in kinds if k != holding.NO_REACH])
+
+
+def screen_rows(spec: SweepSpec) -> tuple[list[dict], list[dict]]:
+    """Per cell, condition and seed: the genomes drawn, how many reach, how many of them hold;
+    and per genome its successful trials, separations and kind, so that the screen can be
+    judged again by another holding criterion without screening again."""
+    rows, genomes = [], []
     for run in spec.runs():
-        flags = screen_genomes(run.config, [run.seed])
-        rows.append({"cell": run.cell, "condition": run.condition, "seed": run.seed,
-                     "genomes": run.config.evolution.population, "reach": len(flags),
-                     "hold": int(flags.sum())})
-    return rows
+        where = {"cell": run.cell, "condition": run.condition, "seed": run.seed}
+        scored = scored_genomes(run.config, run.seed)
+        kinds = [genome_kind(*s) for s in scored]
+        genomes += [{**where, "genome": i, "successes": hit, "separations": sep, "kind": k}
+                    for i, ((hit, sep), k) in enumerate(zip(scored, kinds))]
+        rows.append({**where, "genomes": run.config.evolution.population,
+                     "reach": sum(k != holding.NO_REACH for k in kinds),
+                     "hold": kinds.count(holding.HOLDS)})
+    return rows, genomes
 
 
 def run_screen(spec: SweepSpec, out: Path) -> Path:
-    """Screen every cell of the spec and store the table and the spec in OUT."""
+    """Screen every cell of the spec and store the table, every genome's scores and the spec
+    in OUT."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    rows = screen_rows(spec)
-    lines = [",".join(COLUMNS)] + [",".join(str(row[c]) for c in COLUMNS) for row in rows]
+    rows, genomes = screen_rows(spec)
     write_atomically(out / SPEC, json.dumps(spec.to_dict(), indent=2, sort_keys=True) + "\n")
-    write_atomically(out / TABLE, "\n".join(lines) + "\n")
+    write_atomically(out / TABLE, as_csv(COLUMNS, rows))
+    write_atomically(out / GENOMES, as_csv(GENOME_COLUMNS, genomes))
     return out / TABLE
+
+
+def as_csv(columns: tuple[str, ...], rows: list[dict]) -> str:
+    return "\n".join([",".join(columns)] + [",".join(str(row[c]) for c in columns)
+                                            for row in rows]) + "\n"
 
 
 def read_screen(folder: Path) -> Screened:

@@ -168,16 +168,30 @@ def test_no_run_locking_contradicts_lock_speed_without_a_speed_to_judge():
     assert judged.ours == "no run's shoulder ever locks"
 
 
-def test_lesion_start_needs_its_premise():
+def test_lesion_start_fails_with_its_premise_and_reports_its_own_criterion_beside_it():
     scattered = [{"intact": reaches(start_spread_body=30),
                   "lesioned": reaches(start_spread_body=40 + i % 2)} for i in range(RUNS)]
     judged = C.judged_as("lesion-start", Evidence({}, scattered, Windows(G)))
-    assert judged.verdict == "reversed" and "premise is reversed" in judged.ours
-    assert judged.criteria[1].judged == "replicates"      # the spread grows, but from no one place
-    assert "the lesion's scattering replicates" in judged.ours
+    assert judged.verdict == "premise fails" and judged.premise.verdict == "reversed"
+    assert judged.own[0] == "replicates"       # the spread grows, but from no one place
+    assert judged.premise_key == "stereotyped-start" and judged.decisive is \
+        judged.premise.criteria[0] and judged.p == judged.premise.p
     tight = [{"intact": reaches(start_spread_body=5 + i % 2),
               "lesioned": reaches(start_spread_body=25 + i % 3)} for i in range(RUNS)]
     assert C.judged_as("lesion-start", Evidence({}, tight, Windows(G))).verdict == "replicates"
+    still = [{"intact": reaches(start_spread_body=5 + i % 2),
+              "lesioned": reaches(start_spread_body=2 + i % 3)} for i in range(RUNS)]
+    assert C.judged_as("lesion-start", Evidence({}, still, Windows(G))).verdict == "reversed"
+
+
+def test_lock_position_counts_unlocked_runs_as_its_premise_failing_not_as_flexed():
+    """4 of 10 runs lock, all extended: the shoulder does not lock in all runs (the premise
+    is reversed), and the locked ones' position, all extended, is reported beside it."""
+    judged = C.judged_as("lock-position", evidence(normal=joints([2.0] * 4 + [50.0] * 6)))
+    assert judged.verdict == "premise fails" and judged.premise_key == "shoulder-locked"
+    (extended,) = judged.criteria
+    assert extended.interval.n == 4 and extended.interval.mean == 1.0
+    assert judged.own[0] == "inconclusive"       # 4 of 4 cannot show most runs
 
 
 def test_a_rising_curve_replicates_and_its_time_shuffled_copies_do_not():
@@ -218,17 +232,44 @@ def test_a_verdict_can_depend_on_where_the_late_window_lies():
     verdicts = {label: C.judge(claim, Evidence(ev, [], w)).verdict
                 for label, w in Windows(G).moved().items()}
     assert C.judge(claim, Evidence(ev, [], Windows(G))).verdict == "replicates"
-    assert verdicts == {"early 5%": "replicates", "early 15%": "replicates",
-                        "late 5%": "replicates", "late 15%": "absent"}
+    assert verdicts["late gens 190-199"] == "replicates"
+    assert verdicts["late gens 170-199"] == "absent"
+    assert verdicts["early gens 0-9"] == verdicts["slowdown dip gens 1-9"] == "replicates"
 
 
-def test_the_moved_windows_are_the_first_and_last_5_and_15_percent():
-    moved = Windows(200).moved()
-    assert [(w.early, w.final) for w in moved.values()] == [
-        (slice(0, 10), slice(180, 200)), (slice(0, 30), slice(180, 200)),
-        (slice(0, 20), slice(190, 200)), (slice(0, 20), slice(170, 200))]
-    assert (Windows(200).early, Windows(200).final, Windows(4).early) == (
-        slice(0, 20), slice(180, 200), slice(0, 1))
+def test_every_window_is_moved_one_at_a_time_the_slowdown_also_to_its_old_windows():
+    w = Windows(200)
+    assert (w.slowdown_start, w.slowdown_dip, w.recovery) == (slice(0, 1), slice(1, 20),
+                                                              slice(20, 40))
+    assert (w.start, w.early, w.dip, w.first_quarter, w.final) == (
+        slice(0, 5), slice(0, 20), slice(10, 50), slice(0, 50), slice(180, 200))
+    moved = w.moved()
+    assert {name for name, _ in w.spans} == {label.rsplit(" gen", 1)[0] for label in moved}
+    old = moved["slowdown dip gens 10-49"]
+    assert (old.slowdown_dip, old.slowdown_start, old.dip) == (slice(10, 50), slice(0, 1),
+                                                                slice(10, 50))
+    assert moved["slowdown start gens 0-4"].slowdown_start == slice(0, 5)
+    assert moved["recovery gens 180-199"].recovery == w.final
+    assert (Windows(4).early, Windows(4).dip, Windows(4).final, Windows(4).slowdown_dip) == (
+        slice(0, 1), slice(1, 2), slice(3, 4), slice(1, 2))
+
+
+def test_the_slowdown_is_judged_from_generation_0_to_the_first_20_and_its_recovery_after():
+    """Fixated hand speed 6 at generation 0, a trough of 3 over generations 1-9 of 200, 5 over
+    10-19, back to 6 over 20-39, 2 after: the registered windows see a slowdown that recovers;
+    the windows registered before (start 0-4, dip 10-49) put the fall inside the start and the
+    recovery inside the dip, and call it a speed-up."""
+    g = 200
+    curve = np.full(g, 2.0)
+    curve[0], curve[1:10], curve[10:20], curve[20:40] = 6.0, 3.0, 5.0, 6.0
+    runs = curve + np.random.default_rng(5).normal(0, 0.05, (RUNS, g))
+    data = ConditionData("normal", Path("normal"), g, {"top_hand_speed_fix": runs}, {},
+                         [g] * RUNS, [Path(f"run-{i:02d}") for i in range(RUNS)], [])
+    hand = next(c for c in C.CLAIMS if c.key == "hand-slowdown")
+    assert C.judge(hand, Evidence({"normal": data}, [], Windows(g))).verdict == "replicates"
+    before = Windows(g, spans=tuple({**dict(Windows(g).spans), "slowdown start": (0, 5),
+                                     "slowdown dip": (10, 50)}.items()))
+    assert C.judge(hand, Evidence({"normal": data}, [], before)).verdict == "reversed"
 
 
 def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
@@ -246,3 +287,44 @@ def test_each_claim_is_defined_once_in_the_order_written_with_its_own_nulls():
     assert all(set(claim.nulls) <= {C.RANDOM, C.SHUFFLED} for claim in C.CLAIMS)
     assert C.RANDOM not in by_key["random-fitness"].nulls     # it reads random movement itself
     assert C.SHUFFLED in by_key["approach-increases"].nulls   # a time course
+
+
+def test_a_verdict_on_a_threshold_of_ours_is_read_again_at_other_thresholds():
+    """Every run's shoulder flexes on 12% of cycles: not locked at the registered 90/10
+    (reversed), locked in all runs at 85/15 and 80/20; the registered verdict stays."""
+    ev = evidence(normal=joints([12.0] * RUNS))
+    claim = next(c for c in C.CLAIMS if c.key == "shoulder-locked")
+    assert C.judge(claim, ev).verdict == "reversed"
+    assert dict(C.readings(claim, ev)) == {"85/15": "replicates", "80/20": "replicates",
+                                           "top 20": "n/a", "top 20, 80/20": "n/a"}
+    position = next(c for c in C.CLAIMS if c.key == "lock-position")
+    assert C.judge(position, ev).verdict == "premise fails"
+    assert dict(C.readings(position, ev))["85/15"] == "replicates"   # the premise follows
+
+
+def test_the_reach_start_bound_is_read_at_0_75_and_0_9():
+    ratio_08 = [{"intact": reaches(start_spread_body=24 + i % 2), "lesioned": reaches()}
+                for i in range(RUNS)]                      # 0.80-0.83 of the trial-start spread
+    claim = next(c for c in C.CLAIMS if c.key == "stereotyped-start")
+    ev = Evidence({}, ratio_08, Windows(G))
+    assert C.judge(claim, ev).verdict == "reversed"
+    assert dict(C.readings(claim, ev)) == {"< 0.75": "reversed", "< 0.9": "replicates"}
+
+
+def test_the_lesion_is_read_again_without_survivor_bias():
+    """The lesioned nets reach fewer trials, the ones they reach straight: over their
+    successes path efficiency looks better (worse < 0), over every trial it is worse."""
+    runs = [{"intact": reaches(path_efficiency=0.5, path_efficiency_every_trial=0.5,
+                               approach_prob=0.5, success_rate=0.8),
+             "lesioned": reaches(path_efficiency=0.8 + 0.01 * (i % 2),
+                                 path_efficiency_every_trial=0.2 - 0.01 * (i % 3),
+                                 approach_prob=0.4 - 0.01 * (i % 3),
+                                 success_rate=0.3 + 0.01 * (i % 2))} for i in range(RUNS)]
+    ev = Evidence({}, runs, Windows(G))
+    claim = next(c for c in C.CLAIMS if c.key == "lesion-disorganised")
+    registered = C.judge(claim, ev)
+    assert registered.criteria[1].judged == "reversed"
+    assert "survivor-biased" in registered.criteria[1].what
+    every, both = (verdict for _, verdict in C.readings(claim, ev))
+    assert every == "replicates"            # approach, efficiency and success worse: 3 of 4
+    assert both == "n/a"                    # hand-made rows hold no trial-by-trial record

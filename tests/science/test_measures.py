@@ -1,4 +1,6 @@
 """Analyses on synthetic traces whose answers are known by construction."""
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -263,3 +265,28 @@ def test_latency_of_successes_counts_only_trials_that_touch():
     first = trace.touch[1:].argmax(axis=0) + 1
     expected = first[hit].mean() if hit.any() else np.nan
     np.testing.assert_equal(oracle.latency_of_successes(trace), expected)
+
+
+def test_path_efficiency_over_every_trial_counts_a_miss_over_the_whole_trial():
+    """Trial 0 reaches at row 2 straight (gap 10 -> 0 over a path of 10): 1; trial 1 never
+    reaches, closing 2 of its gap over a path of 8: 0.25; trial 2 never moves: NaN."""
+    gap = np.array([[10.0, 10.0, 5.0], [5.0, 9.0, 5.0], [0.0, 8.0, 5.0], [0.0, 8.0, 5.0]])
+    speed = np.array([[5.0, 4.0, 0.0], [5.0, 2.0, 0.0], [3.0, 2.0, 0.0]])
+    got = A.path_efficiencies(SimpleNamespace(hand_object_distance=gap), np.array([2, -1, -1]),
+                            speed)
+    assert got[:2].tolist() == [1.0, 0.25] and np.isnan(got[2])
+
+
+def test_shared_reaches_compare_the_lesion_on_the_trials_both_nets_reach():
+    """The lesioned net reaches only its two easiest trials: over its successes it looks more
+    efficient than the intact net (0.9 against 0.6), on the trials both reach it is worse."""
+    nan = float("nan")
+
+    def summary(latency, efficiency):
+        return A.ReachSummary(1.0, nan, 0.5, float(np.nanmean(efficiency)), 1, 1, 1, 1, 1, 1, 1,
+                            trial_latency=tuple(latency), trial_efficiency=tuple(efficiency))
+    intact = summary([10, 12, 40, 50], [0.95, 0.95, 0.3, 0.2])
+    lesioned = summary([20, 22, nan, nan], [0.9, 0.9, nan, nan])
+    assert lesioned.path_efficiency > intact.path_efficiency           # survivor bias
+    shared = A.shared_reaches(intact, lesioned)
+    assert shared == {"latency": (11.0, 21.0), "path_efficiency": (0.95, 0.9)}

@@ -12,6 +12,7 @@ import pytest
 
 from econet_ros.science import report
 from econet_ros.science.claims import CLAIMS, ClaimResult, Judged, Nulls
+from econet_ros.science.measures import ReachSummary
 from econet_ros.science.optimizer_study import Comparison
 from econet_ros.science.series import Windows
 from econet_ros.science.stats import Estimate, paired, share
@@ -58,17 +59,37 @@ def result(key, verdict, shuffled=math.nan, random="reversed", p_holm=None):
                        judged.p if p_holm is None else p_holm)
 
 
-def test_the_tally_counts_four_verdicts_raw_and_after_holm_with_the_flagged():
+def conditional(key, premise_verdict, own_verdict, p_holm=None):
+    """A claim result conditional on a premise judged premise_verdict, its own criteria
+    own_verdict."""
+    own, premise = result(key, own_verdict), result("stereotyped-start", premise_verdict)
+    judged = own.judged._replace(premise=premise.judged, premise_key="stereotyped-start")
+    return ClaimResult(CLAIM[key], judged, Nulls("reversed", math.nan),
+                       judged.p if p_holm is None else p_holm)
+
+
+def test_the_tally_counts_the_verdicts_raw_and_after_holm_premise_fails_apart():
     results = [result("fitness", "replicates", p_holm=0.2),              # Holm: inconclusive
                result("latency", "reversed"), result("successes", "absent"),
                result("lock-speed", "replicates", shuffled=1.0),            # flagged
+               conditional("lesion-start", "reversed", "replicates"),
+               conditional("lock-position", "reversed", "reversed", p_holm=0.3),
                result("others-mobile", "inconclusive", random="replicates"),  # added, flagged
                result("two-joint-search", "replicates", shuffled=0.5)]      # added, flagged
     lines = report._tally(results)
-    # replicates | absent | reversed | inconclusive | n/a | all | flagged
-    assert "| the paper's, raw | 2 | 1 | 1 | 0 | 0 | 4 | 1 |" in lines
-    assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 0 | 4 | 1 |" in lines
-    assert "| added, raw | 1 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    # replicates | absent | reversed | premise fails | inconclusive | n/a | all | flagged
+    assert "| the paper's, raw | 2 | 1 | 1 | 2 | 0 | 0 | 6 | 1 |" in lines
+    assert "| the paper's, Holm | 1 | 1 | 1 | 1 | 2 | 0 | 6 | 1 |" in lines
+    assert "| added, raw | 1 | 0 | 0 | 0 | 1 | 0 | 2 | 2 |" in lines
+    assert lines[-1] == ("Flagged, every one: 4 lock-speed (replicates: cannot tell a time "
+                         "course from a level); 7 others-mobile (inconclusive: replicates on "
+                         "random movement: cannot tell learning from chance); 8 "
+                         "two-joint-search (replicates: cannot tell a time course from a "
+                         "level).\n")
+    row = next(line for line in report._claims_table(results).split("\n")
+               if line.startswith("| 5 |"))
+    assert "**premise fails**" in row and "premise stereotyped-start: reversed" in row
+    assert "own criteria: replicates<br>lesion-start difference" in row
     assert results[0].adjusted == "inconclusive" and results[1].adjusted == "reversed"
     table = report._claims_table(results, nulls=True)
     assert table.count("(flagged: cannot tell a time course from a level)") == 2
@@ -76,19 +97,20 @@ def test_the_tally_counts_four_verdicts_raw_and_after_holm_with_the_flagged():
     assert "P(approach" not in table and "detectable" in table and "margin 1" in table
 
 
-def test_the_window_table_lists_only_the_claims_whose_verdict_moves():
+def test_the_window_table_has_a_row_per_moved_window_and_names_the_claims_that_move():
     base = [result("fitness", "replicates"), result("latency", "reversed")]
     moved = {label: list(base) for label in Windows(200).moved()}
-    moved["late 15%"] = [base[0], result("latency", "inconclusive")]
+    moved["slowdown dip gens 10-49"] = [base[0], result("latency", "inconclusive")]
     analysis = SimpleNamespace(windows=Windows(200), claims={"base": base},
                                moved_windows=moved)
     lines = report._windows(analysis)
-    rows = [line for line in lines if line.startswith("| 2 |")]
-    assert rows == ["| 2 | latency | reversed | reversed | reversed | reversed | inconclusive |"]
-    assert not any(line.startswith("| 1 |") for line in lines)
-    assert "late 15% (gens 170-199)" in lines[2] and "early 5% (gens 0-9)" in lines[2]
+    rows = [line for line in lines if line.startswith("| ") and "gens" in line.split("|")[1]]
+    assert len(rows) == len(moved) == 18           # every window moved, start and dip included
+    assert "| slowdown dip gens 10-49 | 2 latency: reversed -> inconclusive |" in rows
+    assert "| slowdown start gens 0-4 | none |" in rows and "| start gens 0-7 | none |" in rows
+    assert "1 of 2 claims depend on where a window lies: 2 latency" in lines[-1]
     unmoved = {label: list(base) for label in Windows(200).moved()}
-    assert "None: no claim's verdict depends" in report._windows(SimpleNamespace(
+    assert "0 of 2 claims depend" in report._windows(SimpleNamespace(
         windows=Windows(200), claims={"base": base}, moved_windows=unmoved))[-1]
 
 
@@ -149,3 +171,35 @@ def test_the_optimizer_study_reads_the_four_verdicts(ga, others, expected):
 
 def test_an_estimate_without_runs_gives_no_verdict():
     assert above("x", Estimate(math.nan, math.nan, math.nan, 0)).verdict == "n/a"
+
+
+def test_the_threshold_table_stands_beside_the_registered_verdict_and_says_if_it_flips():
+    locked = result("shoulder-locked", "reversed")._replace(
+        readings=(("85/15", "reversed"), ("80/20", "replicates")))
+    steady = result("stereotyped-start", "reversed")._replace(readings=(("< 0.75", "reversed"),))
+    analysis = SimpleNamespace(claims={"base": [result("fitness", "replicates"), locked,
+                                                steady]})
+    lines = report._thresholds(analysis)
+    assert lines[0] == "## Thresholds the paper does not give\n"
+    rows = [line for line in lines if line.startswith("| 2 |") or line.startswith("| 3 |")]
+    assert rows[0].endswith("| reversed; reversed | 85/15: reversed; 80/20: replicates | yes |")
+    assert rows[1].endswith("| < 0.75: reversed | no |")
+    assert not any(line.startswith("| 1 |") for line in lines)
+    assert "at other thresholds: 85/15: reversed; 80/20: replicates" in report._claims_table(
+        [locked])
+
+
+
+def test_the_lesion_rows_are_published_per_run_and_kind(tmp_path):
+    summary = ReachSummary(0.5, 20.0, 0.6, 0.7, 9.0, 4.0, 3.0, 3.5, 20.0, 30.0, 10,
+                           latency_every_trial=60.0, trial_latency=(20.0, math.nan))
+    runs = [{"run": f"run-0{i}", "generation": 199, "intact": summary, "lesioned": summary,
+             "vision-lesioned": summary} for i in (1, 2)]
+    report.write_lesion_rows(tmp_path / "data" / "lesion.csv", runs)
+    with open(tmp_path / "data" / "lesion.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [(r["run"], r["kind"]) for r in rows][:3] == [
+        ("run-01", "intact"), ("run-01", "lesioned"), ("run-01", "vision-lesioned")]
+    assert len(rows) == 6 and rows[0]["latency_every_trial"] == "60.0"
+    assert rows[0]["path_efficiency"] == "0.7" and "trial_latency" not in rows[0]
+    assert rows[0]["reach_elbow_spread"] == ""                     # NaN: not measured

@@ -6,9 +6,9 @@ import pytest
 from scipy.stats import t as t_quantile
 
 from econet_ros.science.stats import EXACT_SHARE, Estimate, Paired, fewest_runs, paired, share
-from econet_ros.science.verdicts import (ABSENT, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED,
+from econet_ros.science.verdicts import (ABSENT, CONTRADICTED, INCONCLUSIVE, NOT_JUDGED, Criterion,
                                          REPLICATES, REVERSED, above, below, combine, decide,
-                                         holm_family, most_runs, sign_count, within)
+                                         given, holm_family, most_runs, sign_count, within)
 
 
 def interval(lo, hi, n=10):
@@ -148,3 +148,27 @@ def test_holm_over_a_family_keeps_a_verdict_only_below_the_level_and_leaves_n_a_
                                       INCONCLUSIVE]
     assert adjusted[0] == pytest.approx(0.004) and math.isnan(adjusted[3])
     assert all(a >= p for a, p in zip(adjusted, (0.001, 0.03, 0.02)))
+
+
+@pytest.mark.parametrize("premise, own, expected", [
+    (("reversed", 0.001), ("replicates", 0.01), ("premise fails", 0.001)),
+    (("absent", 0.002), ("reversed", 0.01), ("premise fails", 0.002)),
+    (("replicates", 0.03), ("replicates", 0.01), ("replicates", 0.03)),
+    (("replicates", 0.001), ("reversed", 0.01), ("reversed", 0.01)),
+    (("inconclusive", 0.4), ("replicates", 0.01), ("inconclusive", 0.01)),
+    (("inconclusive", 0.4), ("reversed", 0.01), ("reversed", 0.01))])
+def test_a_conditional_claim_fails_with_its_premise_and_replicates_only_with_it(
+        premise, own, expected):
+    assert given(premise, own) == expected
+
+
+def test_a_bound_is_printed_with_the_digits_that_decide_its_verdict():
+    """E2-S: -0.0513 lies just outside the no-effect band [-0.05, 0.05]: at two digits it
+    would print as the band's edge and hide why the criterion is not absent."""
+    gap = Estimate(-0.0179, -0.0513, 0.0157, 1527, "Newcombe", sizes=(1539, 1527))
+    criterion = Criterion("holding share, 4/4/8 - 2/2/4", gap, high=0.0, margin=0.05,
+                          null=True)
+    assert criterion.judged == INCONCLUSIVE and criterion.shown_digits == 3
+    assert "-0.018 [-0.051, 0.016] (n=1539, 1527), Newcombe" in criterion.text(four=True)
+    inside = Criterion("x", Estimate(-0.02, -0.04, 0.01, 40), high=0.0, margin=0.05, null=True)
+    assert inside.shown_digits == 2 and "[-0.04, 0.01] (n=40)" in inside.text()

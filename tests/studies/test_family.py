@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from econet_ros.cli import main
+from econet_ros.science.sweeps.report import build_sweep_report
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, INCONCLUSIVE, REPLICATES, REVERSED
 from econet_ros.studies import experiments, family, screen
@@ -71,8 +73,10 @@ def test_the_registered_sentences_follow_the_adjusted_verdicts():
         "Width: inconclusive; weights: replicates.")
     undecided = family.e1_sentence(REPLICATES, INCONCLUSIVE, {"E1-N": (-9.5, -4.4),
                                                                "E1-W": (-0.21, 2.46)})
-    assert undecided == ("Width: replicates; weights: inconclusive; at equal everything else, "
-                         "holding falls as the last hidden layer widens; the weights "
+    assert undecided == ("Width: replicates; weights: inconclusive; so the registered sentence "
+                         "that the width, not the number of weights, decides holding is not "
+                         "reached (it needs the weights absent); holding falls as the last "
+                         "hidden layer widens, the fit's other terms held equal; the weights "
                          "coefficient's interval [-0.21, 2.46] allows no effect and a rise "
                          "beyond 0.5 and rules out a fall of 0.5 or more.")
     assert family.e2_sentences({"E2-S": REPLICATES, "E2-T": REPLICATES})[0].startswith("Discovery")
@@ -107,6 +111,12 @@ def test_e4_claims_are_tallied_and_compared_with_an_earlier_table(tmp_path):
                                                   "c": (REPLICATES, INCONCLUSIVE)})
     text = "\n".join(family.claims_markdown(study, earlier))
     assert "| replicates | 1 | 1 |" in text and "| absent | 1 | 0 |" in text
+    failed = tmp_path / "e4-premise"
+    failed.mkdir()
+    write_claims(failed / "claims.csv", {"a": ("premise fails", "premise fails"),
+                                         "b": ("reversed", "inconclusive")})
+    tally = family.claims_markdown(failed, None)
+    assert "| premise fails | 1 | 1 |" in tally and "| reversed | 1 | 0 |" in tally
     assert "raw: of the 2 claims inconclusive in the earlier table, 2 leave inconclusive " \
            "(1 replicates, 1 absent); 3 of all claims change verdict." in text
     assert "after Holm: of the 3 claims inconclusive in the earlier table, 1 leave " \
@@ -152,4 +162,23 @@ def test_the_page_judges_the_family_from_the_folders_given(e3_folder, tmp_path, 
     assert "E1-N" not in text.split("## E1")[0]       # not run: left out of the family
     assert "| transplanted | 6 | 1.00 [0.54, 1.00] (n=6) |" in text
     assert "PASS (made up)" in text and "sweep **tiny-e3** (e3-modularity; 6 runs)" in text
+    assert family.E2_AS_BUILT in text and family.E1_S_GAIN not in text    # E1-S not run
     assert f"experiments: {out / 'experiments.md'}" in capsys.readouterr().out
+
+
+def test_a_published_sweep_is_judged_from_its_spec_and_outcomes_as_its_folder_was(
+        e3_folder, tmp_path):
+    """The page judged from the sweep's published outcomes.csv and its spec gives the same
+    family table as from its run folders."""
+    build_sweep_report(e3_folder)
+    published = tmp_path / "published"
+    (published / "tiny-e3").mkdir(parents=True)
+    shutil.copyfile(e3_folder / "outcomes.csv", published / "tiny-e3" / "outcomes.csv")
+    spec = tmp_path / "tiny-e3.toml"
+    spec.write_text(MODULARITY)
+    pages = [family.experiments_page(folders, tmp_path / name, published=published).read_text()
+             for name, folders in (("raw", [e3_folder]), ("stored", [spec]))]
+    tables = [page.split("## E1")[0].split("## The family")[1] for page in pages]
+    assert tables[0] == tables[1] and "| E3-M |" in tables[1]
+    with pytest.raises(family.ResultsError, match="no published outcomes"):
+        family.gather([spec], tmp_path)

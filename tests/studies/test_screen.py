@@ -1,6 +1,7 @@
 """E2's screen as a stored result: `econet sweep screen` scores the random genomes of every cell
 and seed of a screen spec and stores the table, reproducibly; the experiments' page reads it and
 never screens again; the registered spec names its networks, seeds and E2-S's cells."""
+import csv
 from pathlib import Path
 
 import numpy as np
@@ -65,6 +66,22 @@ def test_the_stored_table_holds_what_the_screen_scores(stored):
     text = "\n".join(screen.screen_markdown(screened))
     assert "E2-S: holding share of random genomes, large - small" in text
     assert "Beside it, small - large:" in text and screened.seeds == "9201-9202"
+
+
+def test_every_genome_is_stored_with_its_scores_and_counts_to_the_table(stored):
+    """A referee can judge the screen again by another holding criterion from the genomes'
+    successful trials and separations."""
+    with open(stored / screen.GENOMES, newline="") as handle:
+        genomes = list(csv.DictReader(handle))
+    with open(stored / screen.TABLE, newline="") as handle:
+        table = list(csv.DictReader(handle))
+    for row in table:
+        mine = [g for g in genomes if (g["cell"], g["seed"]) == (row["cell"], row["seed"])]
+        assert len(mine) == int(row["genomes"])
+        assert sum(g["kind"] != "does not reach" for g in mine) == int(row["reach"])
+        assert sum(g["kind"] == "holds" for g in mine) == int(row["hold"])
+        assert all(g["kind"] == screen.genome_kind(float(g["successes"]), float(g["separations"]))
+                   for g in mine)
 
 
 def test_the_page_reads_the_stored_screen_and_never_screens(stored, tmp_path, monkeypatch):

@@ -5,6 +5,7 @@ run's outcomes that the sweep report, the decision rules and `econet compare` re
 that made each run."""
 from __future__ import annotations
 
+import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -94,6 +95,21 @@ def bit_flips_per_copy(config: Config, weights: int) -> float:
     if e.mutation_mode == "weights" or config.evolution.condition == "random":
         return math.nan
     return weights * e.bits_per_weight * e.mutation_rate
+
+
+TEXT_COLUMNS = ("cell", "condition", "holding_late", "commit")
+WHOLE_COLUMNS = ("seed", "generations_done")
+TRUTHS = {"True": True, "False": False, "": ""}
+
+
+def published_rows(path: Path) -> list[dict]:
+    """The tidy rows a sweep report wrote to outcomes.csv, read back with the types tidy_rows
+    gives them (floats are written in full, so they read back exactly): a published sweep
+    judged again without its run folders."""
+    with open(path, newline="", encoding="utf-8") as handle:
+        return [{key: value if key in TEXT_COLUMNS else int(value) if key in WHOLE_COLUMNS
+                 else TRUTHS[value] if key == "dirty" else float(value)
+                 for key, value in row.items()} for row in csv.DictReader(handle)]
 
 
 def tidy_rows(spec: SweepSpec, out: Path) -> list[dict]:

@@ -7,7 +7,7 @@ import csv
 from pathlib import Path
 
 from ...errors import ResultsError
-from ...provenance import made_with
+from ...provenance import dirty_warning, made_with
 from .. import holding
 from ..stats import bounded, estimate, median, paired, share
 from .figures import comparison_figure, gallery, outcome_figure
@@ -107,7 +107,8 @@ def holding_markdown(spec: SweepSpec, rows: list[dict]) -> list[str]:
 
 
 def summary_markdown(spec: SweepSpec, rows, late, compared, notes, figures, out: Path) -> str:
-    lines = [f"# Sweep '{spec.name}'\n", spec.description + "\n" if spec.description else "",
+    lines = [*dirty_warning(), f"# Sweep '{spec.name}'\n",
+             spec.description + "\n" if spec.description else "",
              f"{len(spec.cells)} cell(s), seeds {', '.join(map(str, spec.seeds))}, "
              f"{spec.generations} generations; every cell's runs share the seeds, so runs pair "
              "by seed. Intervals: 95% Student-t over seeds; d_z = mean difference / "
