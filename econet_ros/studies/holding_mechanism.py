@@ -7,6 +7,8 @@ last-generation trials replayed exactly, the median over its contact cycles (obs
 champions silence, and more often than brushing ones. ROS-free."""
 from __future__ import annotations
 
+import argparse
+import csv
 import math
 from pathlib import Path
 
@@ -15,7 +17,8 @@ import numpy as np
 from ..controllers import Controller, FeedForwardNetwork
 from ..evolution import generation_setups, genome_weights
 from ..plugins import make_controller
-from ..run_folders import RunData
+from ..provenance import dirty_warning, made_with
+from ..run_folders import RunData, run_code
 from ..science import holding
 from ..science.stats import share, share_difference
 from ..science.sweeps.outcomes import run_holding
@@ -28,6 +31,10 @@ THRESHOLD_READINGS = (0.02, 0.1)  # read beside the registered verdict, never in
 SHARE_GAP_MARGIN = 0.2           # holders - brushers: a smaller gap in share does not matter
 COLUMNS = ("run", "architecture", "class", "contact_cycles", "median_largest_on_contact",
            "replay_fitness", "stored_fitness")
+TABLE, SUMMARY = "e4-champions.csv", "summary.md"
+PARTIAL = ("**PARTIAL**: E4's champions only. E1, E3 and E2's onset champions are part of the "
+           "registered data; their sweeps must be re-made first (deterministic runs), so this is "
+           "not E5's registered verdict.\n")
 
 
 # -- activations -------------------------------------------------------------------------------
@@ -106,7 +113,7 @@ def champion_row(folder: Path) -> dict:
     data = RunData(folder)
     recorder, fitness, stored = replay(data)
     largest = recorder.on_contact()
-    return {"run": str(folder), "architecture": data.config.evolution.condition,
+    return {"run": f"{Path(folder).parent.name}/{Path(folder).name}", "architecture": data.config.evolution.condition,
             "class": run_holding(Path(folder), data.config.evolution.generations),
             "contact_cycles": len(largest),
             "median_largest_on_contact": float(np.median(largest)) if len(largest) else math.nan,
@@ -140,3 +147,81 @@ def criteria(rows: list[dict], threshold: float = THRESHOLD) -> dict[str, Criter
 def verdict(rows: list[dict], threshold: float = THRESHOLD) -> tuple[str, float]:
     """E5's four-way verdict and its p-value: replicates when both E5-S and E5-D do."""
     return decide(list(criteria(rows, threshold).values()))
+
+
+# -- the table and the summary -----------------------------------------------------------------
+def run_folders(conditions: list[Path]) -> list[Path]:
+    """Every run folder (run-*) of the given condition folders, in order."""
+    return [run for folder in conditions for run in sorted(Path(folder).glob("run-*"))]
+
+
+def write_table(rows: list[dict], path: Path) -> None:
+    """One line per champion, with its class at the registered threshold (yes/no/n/a)."""
+    with open(path, "w", newline="") as out:
+        writer = csv.DictWriter(out, [*COLUMNS, "silences"])
+        writer.writeheader()
+        for row in rows:
+            told = silences(row)
+            writer.writerow({**row, "silences": "n/a" if math.isnan(told)
+                             else ("yes" if told else "no")})
+
+
+def tally(rows: list[dict], kind: str, threshold: float) -> str:
+    told = [f for f in flags(rows, kind, threshold) if not math.isnan(f)]
+    return f"{int(sum(told))}/{len(told)}"
+
+
+def judged_lines(rows: list[dict], label: str, threshold: float) -> list[str]:
+    """One table line per hypothesis (E5-S, E5-D) and E5's verdict, for a set of champions."""
+    holders, brushers = tally(rows, holding.HOLDS, threshold), tally(rows, holding.BRUSHES,
+                                                                     threshold)
+    found = criteria(rows, threshold)
+    verdict_of, p = verdict(rows, threshold)
+    tested = f" (p {p:.3g})" if math.isfinite(p) else ""
+    return [f"| {label} | {threshold:g} | {holders} | {brushers} | "
+            f"{found['E5-S'].text(four=True)} | {found['E5-D'].text(four=True)} | "
+            f"{verdict_of}{tested} |"]
+
+
+def summary_markdown(rows: list[dict], runs: list[Path]) -> list[str]:
+    """The verdict at the registered threshold on all champions, then the readings (per
+    architecture, the other thresholds), and whether every replay was exact."""
+    exact = sum(r["replay_fitness"] == r["stored_fitness"] for r in rows)
+    architectures = sorted({r["architecture"] for r in rows})
+    lines = [*dirty_warning(), "# E5, what holding is: E4's champions\n", PARTIAL,
+             made_with([run_code(r) for r in runs]) + "\n",
+             f"Champions: {len(rows)}; replays scoring exactly their stored fitness: {exact} of "
+             f"{len(rows)}. Silencing: the median over contact cycles of the largest last-hidden-"
+             f"layer activation below the threshold (docs/preregistrations.md, \"E5: what holding "
+             f"is\"). Holders and brushers by the runs' late class; x/n counts champions with "
+             f"contact.\n", "## The registered rule (threshold 0.05, all champions)\n",
+             "| champions | threshold | holders silencing | brushers silencing | E5-S | E5-D | "
+             "E5 |", "|---|---|---|---|---|---|---|",
+             *judged_lines(rows, "all", THRESHOLD),
+             "\n## Readings beside it (not the verdict)\n",
+             "| champions | threshold | holders silencing | brushers silencing | E5-S | E5-D | "
+             "E5 |", "|---|---|---|---|---|---|---|"]
+    for label in ["all", *architectures]:
+        chosen = [r for r in rows if label == "all" or r["architecture"] == label]
+        for threshold in sorted({THRESHOLD, *THRESHOLD_READINGS}):
+            if (label, threshold) != ("all", THRESHOLD):
+                lines += judged_lines(chosen, label, threshold)
+    return lines + [""]
+
+
+def main(argv: list[str] | None = None) -> None:
+    """python -m econet_ros.studies.holding_mechanism --out DIR CONDITION_FOLDER...: E5's
+    table (TABLE) and summary (SUMMARY) for the champions of every run-* in the folders."""
+    parser = argparse.ArgumentParser(description=main.__doc__)
+    parser.add_argument("conditions", nargs="+", type=Path)
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args(argv)
+    runs = run_folders(args.conditions)
+    rows = [champion_row(run) for run in runs]
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_table(rows, args.out / TABLE)
+    (args.out / SUMMARY).write_text("\n".join(summary_markdown(rows, runs)))
+
+
+if __name__ == "__main__":
+    main()

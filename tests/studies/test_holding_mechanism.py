@@ -1,6 +1,7 @@
 """E5's rule (studies/holding_mechanism.py) on tiny hand-made networks and hand-made rows: the
 buffer read is the engine's own, a net silenced by touch by construction is classed as
 silencing and one that is not is not, and the verdict follows the registered criteria."""
+import csv
 import math
 
 import numpy as np
@@ -107,13 +108,30 @@ def test_the_threshold_moves_the_class():
     assert e5.flags(judged, holding.HOLDS, threshold=0.02) == [0.0]
 
 
-@pytest.mark.parametrize("shared", [True, False])
-def test_the_champion_replays_exactly_on_its_own_trials(tmp_path, shared):
+def tiny_run(folder, shared: bool):
     from econet_ros.runs import run_condition
     config = CONFIG.replace(**{"evolution.population": 8, "evolution.parents": 2,
                                "evolution.trials": 4, "evolution.cycles": 40,
                                "evolution.generations": 3, "evolution.shared_trials": shared})
-    run_condition(config, 1, 5, tmp_path, progress=False)
-    row = e5.champion_row(tmp_path / "run-01")
+    run_condition(config, 1, 5, folder, progress=False)
+    return folder / "run-01"
+
+
+@pytest.mark.parametrize("shared", [True, False])
+def test_the_champion_replays_exactly_on_its_own_trials(tmp_path, shared):
+    row = e5.champion_row(tiny_run(tmp_path / "normal", shared))
     assert row["replay_fitness"] == row["stored_fitness"]
-    assert row["architecture"] == "normal" and set(row) == set(e5.COLUMNS)
+    assert row["architecture"] == "normal" and row["run"] == "normal/run-01"
+    assert set(row) == set(e5.COLUMNS)
+
+
+def test_the_command_writes_a_table_and_a_partial_summary(tmp_path):
+    tiny_run(tmp_path / "normal", True)
+    e5.main([str(tmp_path / "normal"), "--out", str(tmp_path / "e5")])
+    with open(tmp_path / "e5" / e5.TABLE) as table:
+        lines = list(csv.DictReader(table))
+    assert [line["run"] for line in lines] == ["normal/run-01"]
+    assert lines[0]["silences"] in ("yes", "no", "n/a")
+    summary = (tmp_path / "e5" / e5.SUMMARY).read_text()
+    assert "**PARTIAL**" in summary and "| all | 0.05 |" in summary
+    assert "| normal | 0.02 |" in summary and "| normal | 0.1 |" in summary
