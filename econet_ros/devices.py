@@ -9,13 +9,22 @@ why: numba-cuda missing, or no usable GPU).
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from .config import Config
 from .controllers import Controller
 from .evolution import Evaluator, InProcessEvaluator
 
-DEVICES = ("cpu", "cuda")
-GPUS_PER_RUN = {"cpu": 0.0, "cuda": 0.125}     # a sweep's Ray task: 8 runs share one GPU
-BATCHES_RUNS = {"cpu": False, "cuda": True}    # its evaluator tests many runs in one call
+
+class Device(NamedTuple):
+    """What the commands need to know of a device before any evaluator exists."""
+
+    gpus_per_run: float     # the share of a GPU a sweep's Ray task asks for (8 runs share one)
+    batches_runs: bool      # its evaluator tests many runs' generations in one call
+
+
+DEVICES = {"cpu": Device(gpus_per_run=0.0, batches_runs=False),
+           "cuda": Device(gpus_per_run=0.125, batches_runs=True)}
 
 
 def make_evaluator(config: Config, device: str = "cpu",
@@ -37,11 +46,11 @@ def require_device(device: str) -> None:
 
 def gpus_per_run(device: str) -> float:
     """The share of a GPU a Ray task evolving one run asks for on ``device``."""
-    return GPUS_PER_RUN[device]
+    return DEVICES[device].gpus_per_run
 
 
 def batches_runs(device: str) -> bool:
     """Whether ``device``'s evaluator tests many runs' generations at once (a BatchEvaluator),
     so that a command hands it all runs of one configuration together (runs.evolve_runs)
     rather than one run to each worker."""
-    return BATCHES_RUNS[device]
+    return DEVICES[device].batches_runs

@@ -104,7 +104,7 @@ def add_run_options(parser: argparse.ArgumentParser, out: str) -> None:
 
 def add_device_option(parser: argparse.ArgumentParser) -> None:
     """--device: where the trials run; the results are the same files either way."""
-    parser.add_argument("--device", choices=DEVICES, default="cpu",
+    parser.add_argument("--device", choices=tuple(DEVICES), default="cpu",
                         help="where the trials run: cpu (default), or cuda, an NVIDIA GPU "
                              "through numba-cuda (pip install \".[cuda]\"); the result files "
                              "are the same either way (docs/speed.md)")
