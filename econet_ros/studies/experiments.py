@@ -27,6 +27,10 @@ TERM_NAMES = {"width": "log2 width", "weights": "log2 weights", "three_layer": "
               "range": "log2 weight range"}
 FAMILY = ("E1-N", "E1-W", "E1-A", "E1-S", "E2-S", "E2-T", "E2-O", "E2-P", "E3-M", "E3-H",
           "E3-T")
+# The second family (docs/preregistrations.md, "E6-E9 and the E5-E9 family"), Holm over all 21.
+FAMILY_E5_E9 = ("E5", "E6-P", "E6-G", "E6-R", "E6-M", "E6-S", "E7-D", "E7-W", "E8-H", "E8-E",
+                "E8-T", "E8-K", "E8-F", "E8-N", "E9-2", "E9-10", "E9-23", "E9-25", "E9-29",
+                "E9-30", "E9-36")
 
 
 # -- E1: a model of holding on runs -----------------------------------------------------------
@@ -113,6 +117,42 @@ def e1_range(spec: SweepSpec, rows: list[dict], resamples: int = RESAMPLES) -> d
     return {"E1-S": falls(f"{TERM_NAMES['range']} coefficient", fit["range"])}
 
 
+# -- E7: width as a dose, weights at equal width --------------------------------------------
+def runs_in(spec: SweepSpec, rows: list[dict], cells: list[str]) -> list[dict]:
+    return [r for r in runs_of(spec, rows) if r["cell"] in cells]
+
+
+def e7_dose(spec: SweepSpec, rows: list[dict], dose: list[str], control: list[str],
+            resamples: int = RESAMPLES) -> dict[str, Criterion]:
+    """E7-D: holding on log2 width over the DOSE cells (first layers fixed); E7-W: holding on
+    log2 weights over the CONTROL cells (width fixed); each a Firth fit with the seed-cluster
+    bootstrap and E1's margin."""
+    width = clustered_fit(runs_in(spec, rows, dose), ("width",), resamples)["width"]
+    weights = clustered_fit(runs_in(spec, rows, control), ("weights",), resamples)["weights"]
+    return {"E7-D": falls(f"{TERM_NAMES['width']} coefficient, first layers fixed", width),
+            "E7-W": falls(f"{TERM_NAMES['weights']} coefficient, width fixed", weights)}
+
+
+def e7_readings(spec: SweepSpec, rows: list[dict], dose: list[str],
+                resamples: int = RESAMPLES) -> list[str]:
+    """Beside E7, not judged: the width slope over the dose cells off the ceiling and the floor
+    (share strictly between 0 and 1), and a joint fit of width and weights over every run."""
+    shares = {c: np.mean([r["holds"] for r in runs_in(spec, rows, [c])]) for c in dose}
+    between = [c for c, s in shares.items() if 0 < s < 1]
+    lines = ["Readings beside E7 (registered, not judged):\n"]
+    if len(between) >= 2:
+        slope = clustered_fit(runs_in(spec, rows, between), ("width",), resamples)["width"]
+        lines.append(f"- log2 width coefficient over the dose cells off the ceiling and the "
+                     f"floor ({', '.join(between)}): {slope.text(2)}")
+    else:
+        lines.append(f"- fewer than two dose cells lie off the ceiling and the floor "
+                     f"({', '.join(between) or 'none'}): no slope without them")
+    joint = clustered_fit(runs_of(spec, rows), ("width", "weights"), resamples)
+    lines.append(f"- joint fit over all {len(runs_of(spec, rows))} runs: log2 width "
+                 f"{joint['width'].text(2)}, log2 weights {joint['weights'].text(2)}")
+    return lines + [""]
+
+
 # -- E2: the transplant, the onset (the screen: screen.py) ------------------------------------------------
 def most_hold(what: str, flags) -> Criterion:
     """A share of runs that hold, predicted above one half (reversed wholly below it)."""
@@ -180,13 +220,14 @@ class Hypothesis:
     adjusted: str
 
 
-def family(criteria: dict[str, Criterion]) -> list[Hypothesis]:
-    """Holm over the hypotheses given (the registered family is FAMILY; one not yet judged is
-    left out of the adjustment), as verdicts.holm_family judges any family."""
-    unknown = set(criteria) - set(FAMILY)
+def family(criteria: dict[str, Criterion], registered: tuple[str, ...] = FAMILY
+           ) -> list[Hypothesis]:
+    """Holm over the hypotheses given (the registered family, FAMILY or FAMILY_E5_E9; one not
+    yet judged is left out of the adjustment), as verdicts.holm_family judges any family."""
+    unknown = set(criteria) - set(registered)
     if unknown:
         raise ValueError(f"not in the registered family: {', '.join(sorted(unknown))}")
-    keys = [k for k in FAMILY if k in criteria]
+    keys = [k for k in registered if k in criteria]
     decided = [decide([criteria[k]]) for k in keys]
     return [Hypothesis(k, criteria[k], v, p, a, kept)
             for k, (v, p), (a, kept) in zip(keys, decided, holm_family(decided))]

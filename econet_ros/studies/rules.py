@@ -1,6 +1,6 @@
 """This project's decision rules, registered by name in setup.cfg (econet_ros.rules) and named by
 the sweeps' TOML (examples/sweeps): the regime rule (regime.py), the confirmatory study's
-(confirm.py: H1-H3 and the exploratory readings) and the experiments E1-E3's
+(confirm.py: H1-H3 and the exploratory readings) and the experiments E1-E3's and E7's
 (experiments.py)."""
 from __future__ import annotations
 
@@ -14,6 +14,7 @@ from .figures import LOAD_MAP, load_map_figure
 PREREGISTERED = "## The pre-registered rule (docs/preregistrations.md, \"The confirmatory study\")\n"
 EXPERIMENTS = ("## The pre-registered rule (docs/preregistrations.md, \"Experiments E1-E4 and an "
                "independent check\")\n")
+LATER = "## The pre-registered rule (docs/preregistrations.md, \"E6-E9 and the E5-E9 family\")\n"
 
 
 class Regime(Rule):
@@ -99,13 +100,21 @@ class Experiment(Rule):
     shown with their raw four-way verdicts, Holm-adjusted within the sweep; the registered
     correction over the whole family is the experiments' page's (family.py)."""
 
+    heading, registered = EXPERIMENTS, experiments.FAMILY
+    whole = "all eleven of E1-E3"
+
     def criteria(self, sweep: Swept) -> dict:
         raise NotImplementedError
 
+    def readings(self, sweep: Swept) -> list[str]:
+        return []
+
     def markdown(self, sweep: Swept) -> list[str]:
-        return [EXPERIMENTS, *experiments.family_table(experiments.family(self.criteria(sweep))),
-                "\nHolm-adjusted here over this sweep's hypotheses only; the registered family "
-                "is all eleven of E1-E3, judged together once every experiment has run.\n"]
+        judged = experiments.family(self.criteria(sweep), self.registered)
+        return [self.heading, *experiments.family_table(judged),
+                f"\nHolm-adjusted here over this sweep's hypotheses only; the registered family "
+                f"is {self.whole}, judged together once every experiment has run.\n",
+                *self.readings(sweep)]
 
 
 class E1Width(Experiment):
@@ -154,6 +163,23 @@ class E3Modularity(Experiment):
         o = sweep.options
         return experiments.e3(sweep.spec, sweep.rows, experiments.Modularity(
             (o["modular"], "normal"), (o["scrambled"], "normal"), (o["three"], "three-layer")))
+
+
+class E7Dose(Experiment):
+    """E7-D and E7-W: holding on width over the DOSE cells (first layers fixed), on weights over
+    the CONTROL cells (width fixed)."""
+
+    name = "e7-dose"
+    groups = ("dose", "control")
+    heading, registered = LATER, experiments.FAMILY_E5_E9
+    whole = "the 21 of E5-E9"
+
+    def criteria(self, sweep: Swept) -> dict:
+        return experiments.e7_dose(sweep.spec, sweep.rows, sweep.options["dose"],
+                                   sweep.options["control"])
+
+    def readings(self, sweep: Swept) -> list[str]:
+        return experiments.e7_readings(sweep.spec, sweep.rows, sweep.options["dose"])
 
 
 class E2Screen(Rule):

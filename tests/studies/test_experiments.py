@@ -187,3 +187,53 @@ def test_every_experiment_rule_is_registered_and_its_table_lists_its_hypotheses(
     rows = rows_for(ONSET, lambda c, cond, w: 0.5)
     text = "\n".join(rule_of(ONSET).markdown(Swept(ONSET, rows)))
     assert "| E2-O |" in text and "Holm p" in text
+
+
+# -- E7 (docs/preregistrations.md, "E6-E9 and the E5-E9 family") ------------------------------
+DOSE = load_spec(SPECS / "e7-dose.toml")
+
+
+def e7(rows):
+    return experiments.e7_dose(DOSE, rows, DOSE.rule["dose"], DOSE.rule["control"], RESAMPLES)
+
+
+def test_e7_cells_hold_the_registered_widths_and_weights():
+    table = {(r.cell, make_controller(r.condition, 1, r.config).n_params,
+              width_of(r.config, r.condition)) for r in DOSE.runs()}
+    assert table == {("four-3-3-2", 60, 2), ("four-3-3-3", 72, 3), ("four-3-3-4", 84, 4),
+                     ("four-3-3-6", 108, 6), ("four-3-3-8", 132, 8), ("four-3-3-12", 180, 12),
+                     ("four-1-1-6", 60, 6), ("four-2-2-6", 84, 6), ("four-6-6-6", 180, 6),
+                     ("four-9-9-6", 252, 6)}
+    assert len(DOSE.runs()) == 200 and DOSE.seeds == tuple(range(9701, 9721))
+    assert "four-3-3-6" in DOSE.rule["dose"] and "four-3-3-6" in DOSE.rule["control"]
+
+
+def test_holding_set_by_width_alone_replicates_e7_d_and_leaves_weights_without_effect():
+    rows = rows_for(DOSE, lambda c, cond, w: logistic(6 - 3 * np.log2(width_of(c, cond))))
+    found = judged(e7(rows))
+    assert found["E7-D"] == REPLICATES
+    assert found["E7-W"] in (ABSENT, INCONCLUSIVE)
+
+
+def test_holding_rising_with_the_weights_at_equal_width_reverses_e7_w():
+    rows = rows_for(DOSE, lambda c, cond, w: logistic(4 * np.log2(w / 108)))
+    assert judged(e7(rows))["E7-W"] == REVERSED
+
+
+def test_e7_summary_shows_the_second_family_and_the_readings():
+    rows = rows_for(DOSE, lambda c, cond, w: logistic(6 - 3 * np.log2(width_of(c, cond))))
+    text = "\n".join(rule_of(DOSE).markdown(Swept(DOSE, rows)))
+    assert "E6-E9 and the E5-E9 family" in text and "the 21 of E5-E9" in text
+    assert "| E7-D |" in text and "| E7-W |" in text
+    assert "joint fit over all 200 runs" in text
+
+
+def test_a_rule_group_of_one_cell_is_refused_in_one_line():
+    options = {**DOSE.rule, "dose": ["four-3-3-2"]}
+    with pytest.raises(ConfigError, match="must name two or more cells"):
+        rule_of(DOSE).check(options, {c.name for c in DOSE.cells})
+
+
+def test_the_second_family_refuses_a_key_of_the_first():
+    with pytest.raises(ValueError, match="not in the registered family"):
+        experiments.family({"E1-N": None}, experiments.FAMILY_E5_E9)

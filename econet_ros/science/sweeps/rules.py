@@ -44,19 +44,21 @@ class Swept:
 
 class Rule:
     """No rule: the general tables only. A rule names the options its [rule] table takes: CELLS
-    name one cell of the sweep each, PAIRS two; SWEEPS, which may be left out, another sweep of
-    the same study report."""
+    name one cell of the sweep each, PAIRS two, GROUPS two or more; SWEEPS, which may be left
+    out, another sweep of the same study report."""
 
     name = ""
     precedence = 0     # of the rules a study report's sweeps name, the highest chooses defaults
     cells: tuple[str, ...] = ()
     pairs: tuple[str, ...] = ()
+    groups: tuple[str, ...] = ()
     sweeps: tuple[str, ...] = ()
 
     def check(self, options: dict, cell_names: set[str]) -> None:
         """ConfigError (one line) unless the options are this rule's, each naming what it
         should: cells the sweep has, or another sweep."""
-        needed, allowed = {*self.cells, *self.pairs}, {*self.cells, *self.pairs, *self.sweeps}
+        needed = {*self.cells, *self.pairs, *self.groups}
+        allowed = needed | set(self.sweeps)
         given = set(options) - {"name", REGISTERED}
         if not needed <= given <= allowed:
             raise ConfigError(f"rule '{self.name}' takes the option(s) "
@@ -65,12 +67,14 @@ class Rule:
         for key in given & set(self.sweeps):
             if not isinstance(options[key], str):
                 raise ConfigError(f"rule option {key} must name a sweep, got {options[key]!r}")
-        for key in (*self.cells, *self.pairs):
-            value, count = options[key], 2 if key in self.pairs else 1
+        for key in (*self.cells, *self.pairs, *self.groups):
+            value = options[key]
             named = value if isinstance(value, list) else [value]
-            if len(named) != count or not all(isinstance(c, str) and c in cell_names
-                                              for c in named):
-                what = "a cell" if count == 1 else "two cells"
+            count = 2 if key in self.pairs else 1
+            fits = len(named) >= 2 if key in self.groups else len(named) == count
+            if not fits or not all(isinstance(c, str) and c in cell_names for c in named):
+                what = ("two or more cells" if key in self.groups
+                        else "a cell" if count == 1 else "two cells")
                 raise ConfigError(f"rule option {key} must name {what} of the spec "
                                   f"({', '.join(sorted(cell_names))}), got {value!r}")
 
