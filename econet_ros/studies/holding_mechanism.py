@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..controllers import Controller, FeedForwardNetwork
+from ..errors import ResultsError
 from ..evolution import generation_setups, genome_weights
 from ..plugins import make_controller
 from ..provenance import dirty_warning, made_with
@@ -31,10 +32,11 @@ THRESHOLD_READINGS = (0.02, 0.1)  # read beside the registered verdict, never in
 SHARE_GAP_MARGIN = 0.2           # holders - brushers: a smaller gap in share does not matter
 COLUMNS = ("run", "architecture", "class", "contact_cycles", "median_largest_on_contact",
            "replay_fitness", "stored_fitness")
-TABLE, SUMMARY = "e4-champions.csv", "summary.md"
-PARTIAL = ("**PARTIAL**: E4's champions only. E1, E3 and E2's onset champions are part of the "
-           "registered data; their sweeps must be re-made first (deterministic runs), so this is "
-           "not E5's registered verdict.\n")
+TABLE, SUMMARY = "champions.csv", "summary.md"
+# The registered data, by the name of the folder that holds each (a sweep's or a study's).
+REGISTERED_DATA = ("e1-width", "e1-range", "e3-modularity", "e2-onset-long",
+                   "e2-onset-population", "e4")
+NETWORKED = ("normal", "three-layer")      # random movement has no last hidden layer
 
 
 # -- activations -------------------------------------------------------------------------------
@@ -107,13 +109,14 @@ def replay(data: RunData) -> tuple[ContactRecorder, int, int]:
     return recorder, int(np.sum(measures.fitness)), int(data.fitness()[last][index])
 
 
-def champion_row(folder: Path) -> dict:
-    """One run's row of E5's table: its class (holding.py, late window), its champion's contact
-    cycles and median largest last-layer activation on contact (NaN without contact)."""
+def champion_row(folder: Path, label: str) -> dict:
+    """One run's row of E5's table, named LABEL: its class (holding.py, late window), its
+    champion's contact cycles and median largest last-layer activation on contact (NaN without
+    contact)."""
     data = RunData(folder)
     recorder, fitness, stored = replay(data)
     largest = recorder.on_contact()
-    return {"run": f"{Path(folder).parent.name}/{Path(folder).name}", "architecture": data.config.evolution.condition,
+    return {"run": label, "architecture": data.config.evolution.condition,
             "class": run_holding(Path(folder), data.config.evolution.generations),
             "contact_cycles": len(largest),
             "median_largest_on_contact": float(np.median(largest)) if len(largest) else math.nan,
@@ -150,9 +153,28 @@ def verdict(rows: list[dict], threshold: float = THRESHOLD) -> tuple[str, float]
 
 
 # -- the table and the summary -----------------------------------------------------------------
-def run_folders(conditions: list[Path]) -> list[Path]:
-    """Every run folder (run-*) of the given condition folders, in order."""
-    return [run for folder in conditions for run in sorted(Path(folder).glob("run-*"))]
+def run_folders(results: list[Path]) -> dict[str, Path]:
+    """Every finished run with a network under the given result folders (a sweep's or a
+    study's), by label: the result folder's name and the run's path inside it."""
+    found = {}
+    for result in map(Path, results):
+        for record in sorted(result.glob("**/run.json")):
+            data = RunData(record.parent)
+            if data.complete and data.config.evolution.condition in NETWORKED:
+                found[f"{result.name}/{record.parent.relative_to(result)}"] = record.parent
+    if not found:
+        raise ResultsError(f"no finished run with a network under {', '.join(map(str, results))}")
+    return found
+
+
+def stored_rows(path: Path, name: str) -> list[dict]:
+    """The rows of an earlier E5 table (as written by write_table), each run named NAME/run."""
+    with open(path, newline="", encoding="utf-8") as handle:
+        rows = list(csv.DictReader(handle))
+    numbers = ("contact_cycles", "replay_fitness", "stored_fitness")
+    return [{**{c: r[c] for c in COLUMNS}, "run": f"{name}/{r['run']}",
+             "median_largest_on_contact": float(r["median_largest_on_contact"]),
+             **{c: int(r[c]) for c in numbers}} for r in rows]
 
 
 def write_table(rows: list[dict], path: Path) -> None:
@@ -183,13 +205,24 @@ def judged_lines(rows: list[dict], label: str, threshold: float) -> list[str]:
             f"{verdict_of}{tested} |"]
 
 
-def summary_markdown(rows: list[dict], runs: list[Path]) -> list[str]:
+def coverage(rows: list[dict]) -> str:
+    """Which of the registered data the table holds: the registered verdict needs all."""
+    held = {r["run"].split("/")[0] for r in rows}
+    missing = [name for name in REGISTERED_DATA if name not in held]
+    if not missing:
+        return f"Data: every registered source ({', '.join(REGISTERED_DATA)}).\n"
+    return (f"**PARTIAL**: without {', '.join(missing)} (part of the registered data), so this "
+            f"is not E5's registered verdict. Held: {', '.join(sorted(held))}.\n")
+
+
+def summary_markdown(rows: list[dict], runs: list[Path], stored: list[str]) -> list[str]:
     """The verdict at the registered threshold on all champions, then the readings (per
-    architecture, the other thresholds), and whether every replay was exact."""
+    architecture and source, the other thresholds), and whether every replay was exact."""
     exact = sum(r["replay_fitness"] == r["stored_fitness"] for r in rows)
     architectures = sorted({r["architecture"] for r in rows})
-    lines = [*dirty_warning(), "# E5, what holding is: E4's champions\n", PARTIAL,
-             made_with([run_code(r) for r in runs]) + "\n",
+    kept = "".join(f" Rows kept from an earlier table: {s}." for s in stored)
+    lines = [*dirty_warning(), "# E5, what holding is: the champions' last hidden layer on "
+             "touch\n", coverage(rows), made_with([run_code(r) for r in runs]) + kept + "\n",
              f"Champions: {len(rows)}; replays scoring exactly their stored fitness: {exact} of "
              f"{len(rows)}. Silencing: the median over contact cycles of the largest last-hidden-"
              f"layer activation below the threshold (docs/preregistrations.md, \"E5: what holding "
@@ -206,21 +239,31 @@ def summary_markdown(rows: list[dict], runs: list[Path]) -> list[str]:
         for threshold in sorted({THRESHOLD, *THRESHOLD_READINGS}):
             if (label, threshold) != ("all", THRESHOLD):
                 lines += judged_lines(chosen, label, threshold)
+    for source in sorted({r["run"].split("/")[0] for r in rows}):
+        lines += judged_lines([r for r in rows if r["run"].startswith(source + "/")],
+                              source, THRESHOLD)
     return lines + [""]
 
 
 def main(argv: list[str] | None = None) -> None:
-    """python -m econet_ros.studies.holding_mechanism --out DIR CONDITION_FOLDER...: E5's
-    table (TABLE) and summary (SUMMARY) for the champions of every run-* in the folders."""
+    """python -m econet_ros.studies.holding_mechanism --out DIR [--stored NAME=CSV] RESULTS...:
+    E5's table (TABLE) and summary (SUMMARY) for the champion of every finished run with a
+    network under the result folders (sweeps' or studies'), with the rows of earlier tables
+    kept under NAME (a source whose runs are not on this machine)."""
     parser = argparse.ArgumentParser(description=main.__doc__)
-    parser.add_argument("conditions", nargs="+", type=Path)
+    parser.add_argument("results", nargs="*", type=Path)
+    parser.add_argument("--stored", action="append", default=[], metavar="NAME=CSV")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args(argv)
-    runs = run_folders(args.conditions)
-    rows = [champion_row(run) for run in runs]
+    runs = run_folders(args.results) if args.results else {}
+    rows = [champion_row(run, label) for label, run in runs.items()]
+    for item in args.stored:
+        name, _, path = item.partition("=")
+        rows += stored_rows(Path(path), name)
     args.out.mkdir(parents=True, exist_ok=True)
     write_table(rows, args.out / TABLE)
-    (args.out / SUMMARY).write_text("\n".join(summary_markdown(rows, runs)))
+    (args.out / SUMMARY).write_text("\n".join(summary_markdown(rows, list(runs.values()),
+                                                              args.stored)))
 
 
 if __name__ == "__main__":

@@ -119,19 +119,39 @@ def tiny_run(folder, shared: bool):
 
 @pytest.mark.parametrize("shared", [True, False])
 def test_the_champion_replays_exactly_on_its_own_trials(tmp_path, shared):
-    row = e5.champion_row(tiny_run(tmp_path / "normal", shared))
+    row = e5.champion_row(tiny_run(tmp_path / "normal", shared), "x/normal/run-01")
     assert row["replay_fitness"] == row["stored_fitness"]
-    assert row["architecture"] == "normal" and row["run"] == "normal/run-01"
+    assert row["architecture"] == "normal" and row["run"] == "x/normal/run-01"
     assert set(row) == set(e5.COLUMNS)
 
 
 def test_the_command_writes_a_table_and_a_partial_summary(tmp_path):
-    tiny_run(tmp_path / "normal", True)
-    e5.main([str(tmp_path / "normal"), "--out", str(tmp_path / "e5")])
+    tiny_run(tmp_path / "e4" / "normal", True)
+    e5.main([str(tmp_path / "e4"), "--out", str(tmp_path / "e5")])
     with open(tmp_path / "e5" / e5.TABLE) as table:
         lines = list(csv.DictReader(table))
-    assert [line["run"] for line in lines] == ["normal/run-01"]
+    assert [line["run"] for line in lines] == ["e4/normal/run-01"]
     assert lines[0]["silences"] in ("yes", "no", "n/a")
     summary = (tmp_path / "e5" / e5.SUMMARY).read_text()
-    assert "**PARTIAL**" in summary and "| all | 0.05 |" in summary
+    assert "**PARTIAL**: without e1-width" in summary and "| all | 0.05 |" in summary
     assert "| normal | 0.02 |" in summary and "| normal | 0.1 |" in summary
+    assert "| e4 | 0.05 |" in summary
+
+
+def test_stored_rows_join_the_table_under_their_name(tmp_path):
+    tiny_run(tmp_path / "e1-width" / "normal", True)
+    e5.main([str(tmp_path / "e1-width"), "--out", str(tmp_path / "first")])
+    e5.main(["--stored", f"e4={tmp_path / 'first' / e5.TABLE}", str(tmp_path / "e1-width"),
+             "--out", str(tmp_path / "again")])
+    with open(tmp_path / "again" / e5.TABLE) as table:
+        runs = [line["run"] for line in csv.DictReader(table)]
+    assert runs == ["e1-width/normal/run-01", "e4/e1-width/normal/run-01"]
+    summary = (tmp_path / "again" / e5.SUMMARY).read_text()
+    assert "Rows kept from an earlier table: e4=" in summary
+
+
+def test_every_registered_source_makes_the_summary_whole():
+    judged = [{"run": f"{name}/run-01", "class": holding.HOLDS,
+               "median_largest_on_contact": 0.001} for name in e5.REGISTERED_DATA]
+    assert e5.coverage(judged).startswith("Data: every registered source")
+    assert "PARTIAL" in e5.coverage(judged[1:])
