@@ -1,7 +1,8 @@
 """The studies' verbs of `econet sweep` (registered in setup.cfg, econet_ros.sweep_verbs):
 ``transplant`` runs the transplant arm of the pre-registered experiment E2 from a source sweep,
 ``screen`` stores E2's screen of random genomes, ``experiments`` writes the page of the
-experiments E1-E4 and the independent check from the folders that hold them. Each imports its
+experiments E1-E4 and the independent check from the folders that hold them, ``e5-e9`` the page
+of E5-E9. Each imports its
 work only when run."""
 from __future__ import annotations
 
@@ -121,4 +122,33 @@ class Screen(Verb):
                               f"'{E2Screen.name}')")
         ensure_writable(Path(args.out))
         print(f"screen: {run_screen(spec, Path(args.out))}")
+        return 0
+
+
+class SecondFamily(Verb):
+    """econet sweep e5-e9 --out DIR [--e5 DIR] [--e7 DIR] [--e8 DIR]."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        page = verbs.add_parser(
+            name, help="the page of the pre-registered experiments E5-E9",
+            description="Judges the hypotheses of E5-E9 (docs/preregistrations.md, \"E6-E9 and "
+                        "the E5-E9 family\") from the folders given, Holm over the registered "
+                        "21 (one whose folder is not given is left out and named), and chooses "
+                        "E6's decision and README's mechanism sentence as registered. Writes "
+                        "DIR/e5-e9.md; runs no simulation.")
+        page.add_argument("--out", required=True, help="folder for e5-e9.md")
+        for key, what in (("e5", "E5's table (python -m econet_ros.studies.holding_mechanism)"),
+                          ("e7", "the e7-dose sweep folder"),
+                          ("e8", "the study folder of E8 and E9 (econet study --seed 9801)")):
+            page.add_argument(f"--{key}", default=None, metavar="DIR", help=what)
+        page.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from .second_family import JUDGES, second_family_page
+        ensure_writable(Path(args.out))
+        folders = {k: Path(getattr(args, k)) for k in JUDGES if getattr(args, k, None)}
+        if not folders:
+            raise ResultsError("give at least one experiment's folder (--e5, --e7, --e8)")
+        print(f"e5-e9: {second_family_page(folders, Path(args.out))}")
         return 0
