@@ -92,12 +92,6 @@ def test_the_page_reads_the_stored_screen_and_never_screens(stored, tmp_path, mo
     assert "| E2-S |" in text and "seeds 9201-9202" in text
 
 
-def test_a_spec_of_another_rule_is_not_a_screen(tmp_path, capsys):
-    assert main(["sweep", "screen", str(SPECS / "e3-modularity.toml"), "--out",
-                 str(tmp_path)]) == 2
-    assert "is not a screen spec" in capsys.readouterr().err
-
-
 def test_the_registered_screen_names_its_networks_seeds_and_e2_s_cells():
     spec = load_spec(SPECS / "e2-screen.toml")
     assert [c.name for c in spec.cells] == ["2/2/4", "4/4/8", "three-layer 4", "three-layer 8"]
