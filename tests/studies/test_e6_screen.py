@@ -18,31 +18,10 @@ from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.science.verdicts import ABSENT, REPLICATES
 from econet_ros.studies import screen
 from econet_ros.trials import TrialMeasures
+from sweep_helpers import screened_into, tiny_screen
 
 ROOT = Path(__file__).resolve().parents[2]
 PUBLISHED = ROOT / "docs" / "results" / "sweeps" / "e2-screen"
-TINY = """
-name = "tiny-e6-screen"
-seeds = [9201, 9202]
-behaviour = false
-[settings]
-"evolution.population" = 20
-"evolution.parents" = 10
-"evolution.trials" = 4
-"evolution.cycles" = 40
-[cells.small]
-set = {"network.visual_hidden" = 2, "network.proprio_hidden" = 2, "network.intermodal_hidden" = 4}
-[cells.large]
-set = {"network.visual_hidden" = 4, "network.proprio_hidden" = 4, "network.intermodal_hidden" = 8}
-[[compare]]
-label = "small - large"
-a = {cell = "small"}
-b = {cell = "large"}
-[rule]
-name = "e6-screen"
-large = "large"
-small = "small"
-"""
 
 
 def trials(*rows) -> TrialMeasures:
@@ -82,11 +61,7 @@ def test_e6_s_is_the_large_nets_holding_share_minus_the_small_nets():
 
 @pytest.fixture(scope="module")
 def stored(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("e6-screen")
-    (folder / "spec.toml").write_text(TINY)
-    assert main(["sweep", "screen", str(folder / "spec.toml"), "--out",
-                 str(folder / "out")]) == 0
-    return folder / "out"
+    return screened_into(tiny_screen("e6-screen"), tmp_path_factory.mktemp("e6-screen"))
 
 
 def rows(path: Path) -> list[dict]:
