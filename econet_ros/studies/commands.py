@@ -1,6 +1,6 @@
 """The studies' verbs of `econet sweep` (registered in setup.cfg, econet_ros.sweep_verbs):
 ``transplant`` runs the transplant arm of the pre-registered experiment E2 from a source sweep,
-``screen`` stores E2's screen of random genomes, ``experiments`` writes the page of the
+``screen`` stores E2's or E6's screen of random genomes, ``experiments`` writes the page of the
 experiments E1-E4 and the independent check from the folders that hold them, ``e5-e9`` the page
 of E5-E9. Each imports its
 work only when run."""
@@ -100,13 +100,15 @@ class Screen(Verb):
 
     def add_parser(self, verbs, name: str) -> None:
         screen = verbs.add_parser(
-            name, help="E2's screen: random genomes of every cell, no evolution, stored",
-            description="For every cell and seed of SPEC (a sweep spec whose rule is e2-screen, "
-                        "e.g. examples/sweeps/e2-screen.toml) scores the random genomes of the "
-                        "run's first generation, no evolution, and writes DIR/screen.csv (per "
-                        "cell and seed: genomes, how many reach, how many of them hold) and "
-                        "DIR/screen.json (the spec), for econet sweep experiments (E2-S). "
-                        "About a minute for the registered screen.")
+            name, help="E2's and E6's screen: random genomes of every cell, no evolution, stored",
+            description="For every cell and seed of SPEC (a sweep spec whose rule is e2-screen "
+                        "or e6-screen, e.g. examples/sweeps/e2-screen.toml, e6-screen.toml) "
+                        "scores the random genomes of the run's first generation, no evolution, "
+                        "and writes DIR/screen.csv (per cell and seed: genomes, how many reach "
+                        "and how many of them hold, how many test holding and how many of them "
+                        "hold), DIR/screen-genomes.csv (every genome) and DIR/screen.json (the "
+                        "spec), for econet sweep experiments (E2-S, E6-S). About a minute for "
+                        "E2's registered screen.")
         screen.add_argument("spec", metavar="SPEC", help="screen specification (TOML)")
         screen.add_argument("--out", required=True, help="results folder")
         screen.set_defaults(handler=self.run)
@@ -114,12 +116,11 @@ class Screen(Verb):
     @staticmethod
     def run(args: argparse.Namespace) -> int:
         from ..science.sweeps.spec import load_spec
-        from .rules import E2Screen
-        from .screen import run_screen
+        from .screen import SCREEN_RULES, run_screen
         spec = load_spec(Path(args.spec))
-        if spec.rule.get("name") != E2Screen.name:
-            raise ConfigError(f"{args.spec} is not a screen spec (its rule must be "
-                              f"'{E2Screen.name}')")
+        if spec.rule.get("name") not in SCREEN_RULES:
+            raise ConfigError(f"{args.spec} is not a screen spec (its rule must be one of "
+                              f"{', '.join(SCREEN_RULES)})")
         ensure_writable(Path(args.out))
         print(f"screen: {run_screen(spec, Path(args.out))}")
         return 0

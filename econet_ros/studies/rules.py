@@ -188,3 +188,9 @@ class E2Screen(Rule):
 
     name = "e2-screen"
     cells = ("large", "small")
+
+
+class E6Screen(E2Screen):
+    """E6-S's screen spec: the same cells, judged by E6's holding criterion (screen.py)."""
+
+    name = "e6-screen"

@@ -7,34 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from econet_ros.cli import main
 from econet_ros.config import Config
 from econet_ros.science.sweeps.spec import load_spec
 from econet_ros.studies import experiments, family, screen
+from sweep_helpers import screened_into, tiny_screen
 
 SPECS = Path(__file__).resolve().parents[2] / "examples" / "sweeps"
-TINY = """
-name = "tiny-screen"
-seeds = [9201, 9202]
-behaviour = false
-[settings]
-"evolution.population" = 20
-"evolution.parents" = 10
-"evolution.trials" = 4
-"evolution.cycles" = 40
-[cells.small]
-set = {"network.visual_hidden" = 2, "network.proprio_hidden" = 2, "network.intermodal_hidden" = 4}
-[cells.large]
-set = {"network.visual_hidden" = 4, "network.proprio_hidden" = 4, "network.intermodal_hidden" = 8}
-[[compare]]
-label = "small - large"
-a = {cell = "small"}
-b = {cell = "large"}
-[rule]
-name = "e2-screen"
-large = "large"
-small = "small"
-"""
 
 
 def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
@@ -49,11 +27,7 @@ def test_the_screen_scores_random_genomes_of_a_seed_reproducibly():
 
 @pytest.fixture(scope="module")
 def stored(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("screen")
-    (folder / "spec.toml").write_text(TINY)
-    assert main(["sweep", "screen", str(folder / "spec.toml"), "--out",
-                 str(folder / "out")]) == 0
-    return folder / "out"
+    return screened_into(tiny_screen("e2-screen"), tmp_path_factory.mktemp("screen"))
 
 
 def test_the_stored_table_holds_what_the_screen_scores(stored):
@@ -90,12 +64,6 @@ def test_the_page_reads_the_stored_screen_and_never_screens(stored, tmp_path, mo
     monkeypatch.setattr(screen, "screen_genomes", no_screening)
     text = family.experiments_page([stored], tmp_path / "page").read_text()
     assert "| E2-S |" in text and "seeds 9201-9202" in text
-
-
-def test_a_spec_of_another_rule_is_not_a_screen(tmp_path, capsys):
-    assert main(["sweep", "screen", str(SPECS / "e3-modularity.toml"), "--out",
-                 str(tmp_path)]) == 2
-    assert "is not a screen spec" in capsys.readouterr().err
 
 
 def test_the_registered_screen_names_its_networks_seeds_and_e2_s_cells():
