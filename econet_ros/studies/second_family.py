@@ -18,6 +18,7 @@ from ..science.sweeps.outcomes import tidy_rows
 from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, REPLICATES, holm_family
 from . import experiments, holding_mechanism
+from .screen import read_screen, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
 
 REGISTERED = "1781986"      # the commit of the registration's text (docs/preregistrations.md)
@@ -74,8 +75,16 @@ def judge_e8_e9(folder: Path, judged: Judged) -> None:
     judged.runs["E8, E9"] = sorted(p.parent for p in Path(folder).glob("*/run-*/run.json"))
 
 
+def judge_e6_screen(folder: Path, judged: Judged) -> None:
+    """E6-S from the folder of `econet sweep screen` run on an e6-screen spec."""
+    criteria = screen_criteria(read_screen(Path(folder)))
+    if "E6-S" not in criteria:
+        raise ResultsError(f"{folder} holds a screen of another rule than E6's")
+    judged.found["E6-S"] = Judgement.of("E6-S", criteria["E6-S"])
+
+
 JUDGES: dict[str, Callable[[Path, Judged], None]] = {
-    "e5": judge_e5, "e7": judge_e7, "e8": judge_e8_e9}
+    "e5": judge_e5, "e6_screen": judge_e6_screen, "e7": judge_e7, "e8": judge_e8_e9}
 
 
 # -- the family -------------------------------------------------------------------------------

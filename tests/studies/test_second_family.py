@@ -81,3 +81,15 @@ def test_an_unknown_experiment_or_a_missing_folder_is_refused_in_one_line(tmp_pa
         F.second_family_page({"e10": tmp_path}, tmp_path / "page")
     with pytest.raises(ResultsError, match="e7: no folder"):
         F.second_family_page({"e7": tmp_path / "none"}, tmp_path / "page")
+
+
+def test_e6_s_comes_from_an_e6_screen_and_not_from_e2s(tmp_path):
+    from sweep_helpers import screened_into, tiny_screen
+    (tmp_path / "e6").mkdir()
+    (tmp_path / "e2").mkdir()
+    e6 = screened_into(tiny_screen("e6-screen"), tmp_path / "e6")
+    page = F.second_family_page({"e6_screen": e6}, tmp_path / "page").read_text()
+    assert "| E6-S |" in page
+    e2 = screened_into(tiny_screen("e2-screen"), tmp_path / "e2")
+    with pytest.raises(ResultsError, match="another rule than E6's"):
+        F.second_family_page({"e6_screen": e2}, tmp_path / "page")
