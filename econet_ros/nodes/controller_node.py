@@ -56,6 +56,10 @@ class ControllerNode(Node):
         self._start(chosen_controller(v["condition"], self.named), n_envs)
         self.pending: dict[tuple[int, int], dict] = {}   # (trial, cycle) -> decoded parts
         self.command = CommandMessage(n_envs)
+        # The last cycle answered and the bytes sent for it: a cycle the world sends again
+        # (world_node.RESEND_SEC) is answered with the same command, never computed twice, so
+        # that a controller with a state (random movement's generator) does not move on.
+        self.answered: tuple[tuple[int, int], bytes] | None = None
 
         self.pub = graph.publisher(self, COMMAND)
         self.refusals = graph.RateLimitedLog(self)
@@ -119,7 +123,7 @@ class ControllerNode(Node):
         except ValueError as error:
             response.success, response.message = False, f"the controller refused: {error}"
             return response
-        self.controller = controller
+        self.controller, self.answered = controller, None
         response.success = True
         response.message = f"loaded weights for {n} environment(s) x {k}"
         return response
@@ -183,12 +187,16 @@ class ControllerNode(Node):
             self._act(parts)
 
     def _act(self, parts: dict) -> None:
-        """The network's outputs, written into the reused command message (lockstep_wire)."""
+        """The network's outputs, written into the reused command message (lockstep_wire); a
+        cycle answered already gets the same bytes again."""
         retina = parts["retina"]
-        motor = self.controller.act(observation_from_fields(parts))
-        if self.command.n_envs != len(motor):
-            self.command = CommandMessage(len(motor))
-        graph.send(self, self.pub, self.command.encode(retina["trial"], retina["cycle"], motor))
+        key = (retina["trial"], retina["cycle"])
+        if self.answered is None or self.answered[0] != key:
+            motor = self.controller.act(observation_from_fields(parts))
+            if self.command.n_envs != len(motor):
+                self.command = CommandMessage(len(motor))
+            self.answered = key, self.command.encode(*key, motor)
+        graph.send(self, self.pub, self.answered[1])
 
 
 def main(args: list[str] | None = None) -> int:
