@@ -65,7 +65,7 @@ def test_transplanted_runs_start_from_the_champion_and_controls_from_random_geno
     record = json.loads((out / transplant.RECORD).read_text())
     assert [r["seed"] for r in record["runs"]] == [11, 12]
     assert all(r["behaves_alike"] and r["source_holds"] for r in record["runs"])
-    assert "2 holding source run(s); 2 still hold late in 4/4/8" in capsys.readouterr().out
+    assert "2 holding source run(s); runs holding late by arm: transplanted 2, control 2" in capsys.readouterr().out
     for found in transplant.sources(source):
         target = transplant.larger(found.config, (4, 4, 8))
         moved = RunData(out / "transplanted" / f"seed-{found.seed:03d}")
