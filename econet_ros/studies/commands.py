@@ -77,6 +77,50 @@ class Transplant(Verb):
         return 0
 
 
+def positive(text: str) -> int:
+    """A positive whole number."""
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
+    return int(text)
+
+
+class Robustness(Verb):
+    """econet sweep robustness TRANSPLANT_FOLDER --out DIR [--mutants N]."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        assay = verbs.add_parser(
+            name, help="E6-M: mutants of the champions and their transplants, no evolution",
+            description="For every holding source of TRANSPLANT_FOLDER (made by econet sweep "
+                        "transplant), draws N mutants of its champion (its own net), its padded "
+                        "and its silenced transplant by the runs' own mutation, from a "
+                        "generator seeded (9661, the source's seed), and scores each on the "
+                        "champion's own trials of the source's last generation: a mutant holds "
+                        "when it reaches and separates at most once per successful trial. "
+                        "Writes DIR/robustness.csv (per source and kind: mutants, holding, "
+                        "share) and DIR/robustness.json, and prints E6-M (padded - champion, "
+                        "paired by source) with silenced - champion beside it. The "
+                        "pre-registered experiment E6 (docs/preregistrations.md).")
+        assay.add_argument("transplants", metavar="TRANSPLANT_FOLDER",
+                           help="a folder made by econet sweep transplant")
+        assay.add_argument("--out", required=True, help="results folder")
+        assay.add_argument("--mutants", type=positive, default=200, metavar="N",
+                           help="mutants per source and kind (default: 200, as registered)")
+        assay.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from .maintenance import against_champion, robustness
+        from .robustness import TABLE, run_robustness
+        ensure_writable(Path(args.out))
+        rows = run_robustness(Path(args.transplants), Path(args.out), args.mutants)
+        judged = robustness(rows)["E6-M"]
+        print(f"robustness: {len({r['seed'] for r in rows})} holding source(s) "
+              f"({Path(args.out) / TABLE})\nE6-M {judged.what}: {judged.text(four=True)}: "
+              f"{judged.judged}\nbeside it, silenced - champion: "
+              f"{against_champion(rows, 'silenced').text()}")
+        return 0
+
+
 class Experiments(Verb):
     """econet sweep experiments FOLDER... --out DIR [--against CLAIMS_CSV] [--published DIR]."""
 
