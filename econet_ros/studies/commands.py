@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..cli.options import positive
 from ..cli.sweep import Verb
 from ..errors import ConfigError, ResultsError
 from ..files import ensure_writable
@@ -75,13 +76,6 @@ class Transplant(Verb):
         print(f"transplant: {sources} holding source run(s); runs holding late by arm: {tally} "
               f"(larger net {'/'.join(map(str, args.into))}; {Path(args.out) / 'transplant.json'})")
         return 0
-
-
-def positive(text: str) -> int:
-    """A positive whole number."""
-    if not text.isdigit() or int(text) < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
-    return int(text)
 
 
 class Robustness(Verb):

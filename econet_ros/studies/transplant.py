@@ -37,6 +37,7 @@ from ..science import holding
 from ..science.sweeps.outcomes import run_holding
 from ..science.sweeps.spec import load_sweep
 from ..trials import TrialMeasures, run_trials
+from ..world import TrialSetup
 
 RECORD = "transplant.json"
 EXACT_ZERO = ("sign-magnitude",)    # the genome codes whose grid holds an exact 0
@@ -135,7 +136,7 @@ def champion_genome(source: Source, target: Config) -> np.ndarray:
     return champion(source)[1]
 
 
-def own_trials(source: Source):
+def own_trials(source: Source) -> TrialSetup:
     """The champion's own trial starts of the source's last generation."""
     e = source.config.evolution
     best = champion(source)[0]
@@ -143,7 +144,7 @@ def own_trials(source: Source):
     return setups.take(np.arange(best * e.trials, (best + 1) * e.trials))
 
 
-def scored(config: Config, genomes: np.ndarray, setups) -> TrialMeasures:
+def scored(config: Config, genomes: np.ndarray, setups: TrialSetup) -> TrialMeasures:
     """The measures of every genome (rows) on the same trial starts, environment = genome x
     trials + trial, as a generation is laid out."""
     n, trials = len(genomes), config.evolution.trials

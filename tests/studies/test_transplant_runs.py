@@ -213,3 +213,13 @@ def test_the_assay_of_a_folder_without_a_record_is_refused_in_one_line(tmp_path,
     assert main(["sweep", "robustness", str(tmp_path), "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err
     assert "holds no transplant.json" in err and err.count("\n") == 1
+
+
+def test_the_robustness_verb_prints_e6_m_with_silenced_beside(source, tmp_path, capsys):
+    folder = transplant_folder(source, tmp_path / "moved")
+    assert main(["sweep", "robustness", str(folder), "--out", str(tmp_path / "r"),
+                 "--mutants", "3"]) == 0
+    said = capsys.readouterr().out
+    assert "2 holding source(s)" in said and "E6-M holding share of mutants, padded - champion"\
+        in said and "silenced - champion: median" in said
+    assert (tmp_path / "r" / robustness.TABLE).read_text().count("\n") == 1 + 2 * 3
