@@ -1,6 +1,7 @@
 """The studies wing: the pre-registered studies of this project (docs/preregistrations.md), built
 on the library beside it and never imported by it. regime.py and confirm.py (finding the paper's
 regime; the confirmatory study H1-H3 and the readings), experiments.py (E1-E3's hypotheses) and
-family.py (their page, Holm over the family), transplant.py (E2's transplant arm),
-holding_mechanism.py (E5: whether touch silences a champion's last hidden layer). A study of
+family.py (their page, Holm over the family), transplant.py (E2's and E6's transplant arms),
+holding_mechanism.py (E5: whether touch silences a champion's last hidden layer),
+robustness.py and maintenance.py (E6's mutational-robustness assay; E6's criteria). A study of
 your own can live the same way, in any package: see docs/sweeps.md. ROS-free."""

@@ -1,14 +1,16 @@
 """The studies' verbs of `econet sweep` (registered in setup.cfg, econet_ros.sweep_verbs):
-``transplant`` runs the transplant arm of the pre-registered experiment E2 from a source sweep,
-``screen`` stores E2's or E6's screen of random genomes, ``experiments`` writes the page of the
-experiments E1-E4 and the independent check from the folders that hold them, ``e5-e9`` the page
-of E5-E9. Each imports its
+``transplant`` runs the transplant arms of the pre-registered experiments E2 and E6 from a source
+sweep, ``robustness`` E6's mutational-robustness assay of their genomes, ``screen`` stores E2's
+or E6's screen of random genomes, ``experiments`` writes the page of the experiments E1-E4 and
+the independent check from the folders that hold them, ``e5-e9`` the page of E5-E9. Each imports
+its
 work only when run."""
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
 
+from ..cli.options import positive
 from ..cli.sweep import Verb
 from ..errors import ConfigError, ResultsError
 from ..files import ensure_writable
@@ -23,8 +25,17 @@ def units(text: str) -> tuple[int, int, int]:
     return tuple(int(p) for p in parts)
 
 
+def arm_names(text: str) -> tuple[str, ...]:
+    """Comma-separated arm names, each once (which exist: transplant.ARMS, checked when run)."""
+    names = tuple(n.strip() for n in text.split(","))
+    if not all(names) or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f"expected arm names separated by commas, each once, "
+                                         f"e.g. padded,silenced,continued, got {text!r}")
+    return names
+
+
 class Transplant(Verb):
-    """econet sweep transplant SOURCE --out DIR [--into V/P/I]."""
+    """econet sweep transplant SOURCE --out DIR [--into V/P/I] [--arms A,B,...]."""
 
     def add_parser(self, verbs, name: str) -> None:
         moved = verbs.add_parser(
@@ -33,29 +44,75 @@ class Transplant(Verb):
                         "under evolution.genome_code = sign-magnitude, whose grid holds an exact "
                         "zero) that holds late, its champion is laid out in a larger net with "
                         "every added weight exactly zero (checked: it scores exactly what the "
-                        "champion does), and a run of the larger net evolves from copies of it "
-                        "on the source's seed, beside a control run from random genomes on the "
-                        "same seed. Writes DIR/transplanted/, DIR/control/ and "
-                        "DIR/transplant.json (which runs kept holding); run again to resume. "
-                        "The pre-registered experiment E2 (docs/preregistrations.md).")
+                        "champion does), and a run of each arm evolves on the source's seed. "
+                        "E2's arms (the default): transplanted (from copies of the transplant) "
+                        "and control (the larger net from random genomes); E6's: padded (as "
+                        "transplanted), silenced (the same, each added intermodal unit's weight "
+                        "from touch at -R) and continued (the champion in its own net). Writes "
+                        "DIR/<arm>/ and DIR/transplant.json (which runs kept holding); run "
+                        "again to resume. The pre-registered experiments E2 and E6 "
+                        "(docs/preregistrations.md).")
         moved.add_argument("source", metavar="SOURCE", help="a folder made by econet sweep run")
         moved.add_argument("--out", required=True, help="results folder")
         moved.add_argument("--into", type=units, default=(4, 4, 8), metavar="V/P/I",
                            help="the larger net's visual/proprioceptive/intermodal hidden "
                                 "units, each at least the source's (default: 4/4/8)")
+        moved.add_argument("--arms", type=arm_names, default=("transplanted", "control"),
+                           metavar="A,B,...", help="the arms to run: transplanted, control, "
+                                                   "padded, silenced, continued (default: E2's "
+                                                   "transplanted,control)")
         moved.add_argument("--quiet", action="store_true", help="no progress lines")
         moved.set_defaults(handler=self.run)
 
     @staticmethod
     def run(args: argparse.Namespace) -> int:
-        from .transplant import kept_flags, run_transplants
+        from .transplant import arm_flags, run_transplants
         ensure_writable(Path(args.out))
         record = run_transplants(Path(args.source), Path(args.out), args.into,
                                  on_run=None if args.quiet else lambda what: print(
-                                     f"done: {what}", flush=True))
-        kept = kept_flags(record)
-        print(f"transplant: {len(kept)} holding source run(s); {int(kept.sum())} still hold "
-              f"late in {'/'.join(map(str, args.into))} ({Path(args.out) / 'transplant.json'})")
+                                     f"done: {what}", flush=True), arms=args.arms)
+        held = {arm: arm_flags(record, arm) for arm in args.arms}
+        sources = len(next(iter(held.values())))
+        tally = ", ".join(f"{arm} {int(flags.sum())}" for arm, flags in held.items())
+        print(f"transplant: {sources} holding source run(s); runs holding late by arm: {tally} "
+              f"(larger net {'/'.join(map(str, args.into))}; {Path(args.out) / 'transplant.json'})")
+        return 0
+
+
+class Robustness(Verb):
+    """econet sweep robustness TRANSPLANT_FOLDER --out DIR [--mutants N]."""
+
+    def add_parser(self, verbs, name: str) -> None:
+        assay = verbs.add_parser(
+            name, help="E6-M: mutants of the champions and their transplants, no evolution",
+            description="For every holding source of TRANSPLANT_FOLDER (made by econet sweep "
+                        "transplant), draws N mutants of its champion (its own net), its padded "
+                        "and its silenced transplant by the runs' own mutation, from a "
+                        "generator seeded (9661, the source's seed), and scores each on the "
+                        "champion's own trials of the source's last generation: a mutant holds "
+                        "when it reaches and separates at most once per successful trial. "
+                        "Writes DIR/robustness.csv (per source and kind: mutants, holding, "
+                        "share) and DIR/robustness.json, and prints E6-M (padded - champion, "
+                        "paired by source) with silenced - champion beside it. The "
+                        "pre-registered experiment E6 (docs/preregistrations.md).")
+        assay.add_argument("transplants", metavar="TRANSPLANT_FOLDER",
+                           help="a folder made by econet sweep transplant")
+        assay.add_argument("--out", required=True, help="results folder")
+        assay.add_argument("--mutants", type=positive, default=200, metavar="N",
+                           help="mutants per source and kind (default: 200, as registered)")
+        assay.set_defaults(handler=self.run)
+
+    @staticmethod
+    def run(args: argparse.Namespace) -> int:
+        from .maintenance import against_champion, robustness
+        from .robustness import TABLE, run_robustness
+        ensure_writable(Path(args.out))
+        rows = run_robustness(Path(args.transplants), Path(args.out), args.mutants)
+        judged = robustness(rows)["E6-M"]
+        print(f"robustness: {len({r['seed'] for r in rows})} holding source(s) "
+              f"({Path(args.out) / TABLE})\nE6-M {judged.what}: {judged.text(four=True)}: "
+              f"{judged.judged}\nbeside it, silenced - champion: "
+              f"{against_champion(rows, 'silenced').text()}")
         return 0
 
 

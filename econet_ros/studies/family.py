@@ -63,8 +63,10 @@ def gather(folders: list[Path], published: Path | None = None) -> Folders:
             found.sweeps.append((folder, Swept(spec, tidy_rows(spec, folder))))
             known = True
         if (folder / transplant.RECORD).exists():
-            found.transplants.append((folder, json.loads((folder / transplant.RECORD).read_text())))
-            known = True
+            record = json.loads((folder / transplant.RECORD).read_text())
+            if "transplanted" in transplant.arms_of(record):      # E2's transplant, not E6's
+                found.transplants.append((folder, record))
+                known = True
         if (folder / SCREEN_TABLE).exists():
             found.screens.append(read_screen(folder))
             known = True
@@ -129,7 +131,7 @@ def onset_markdown(sweep: Swept, folder: Path) -> list[str]:
 
 # -- E2's transplant ---------------------------------------------------------------------------
 def transplant_markdown(record: dict) -> list[str]:
-    """The sources, the check of every transplant, and both arms' holding."""
+    """The sources, the check of every transplant, and each arm's holding."""
     runs = record["runs"]
     moved = [r for r in runs if r["source_holds"]]
     lines = [f"Source runs: {len(runs)} ({record['source']}), of which {len(moved)} hold late; "
@@ -138,7 +140,7 @@ def transplant_markdown(record: dict) -> list[str]:
              f"({sum(r['behaves_alike'] for r in moved)} of {len(moved)}).\n",
              f"| arm ({'/'.join(map(str, record['into']))}, evolved 200 generations at 2%) | "
              "runs | hold late [95% CI, Clopper-Pearson] |", "|---|---|---|"]
-    for arm in transplant.ARMS:
+    for arm in transplant.arms_of(record):
         flags = [r[arm] == holding.HOLDS for r in moved]
         lines.append(f"| {arm} | {len(flags)} | {share(flags).text(2)} |")
     return lines + [""]
