@@ -184,7 +184,8 @@ class Screen(Verb):
 
 
 class SecondFamily(Verb):
-    """econet sweep e5-e9 --out DIR [--e5 DIR] [--e6-screen DIR] [--e7 DIR] [--e8 DIR]."""
+    """econet sweep e5-e9 --out DIR [--e5 DIR] [--e6-transplant DIR] [--e6-robustness DIR]
+    [--e6-screen DIR] [--e7 DIR] [--e8 DIR]."""
 
     def add_parser(self, verbs, name: str) -> None:
         page = verbs.add_parser(
@@ -196,6 +197,9 @@ class SecondFamily(Verb):
                         "DIR/e5-e9.md; runs no simulation.")
         page.add_argument("--out", required=True, help="folder for e5-e9.md")
         for key, what in (("e5", "E5's table (python -m econet_ros.studies.holding_mechanism)"),
+                          ("e6-transplant", "E6's arms (econet sweep transplant --arms "
+                                            "padded,silenced,continued)"),
+                          ("e6-robustness", "E6's assay (econet sweep robustness)"),
                           ("e6-screen", "E6-S's screen folder (econet sweep screen "
                                         "examples/sweeps/e6-screen.toml)"),
                           ("e7", "the e7-dose sweep folder"),
@@ -209,7 +213,7 @@ class SecondFamily(Verb):
         ensure_writable(Path(args.out))
         folders = {k: Path(getattr(args, k)) for k in JUDGES if getattr(args, k, None)}
         if not folders:
-            raise ResultsError("give at least one experiment's folder (--e5, --e6-screen, --e7, "
-                               "--e8)")
+            raise ResultsError("give at least one experiment's folder (--e5, --e6-transplant, "
+                               "--e6-robustness, --e6-screen, --e7, --e8)")
         print(f"e5-e9: {second_family_page(folders, Path(args.out))}")
         return 0

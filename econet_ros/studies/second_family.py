@@ -17,7 +17,8 @@ from ..run_folders import run_code
 from ..science.sweeps.outcomes import tidy_rows
 from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, REPLICATES, holm_family
-from . import experiments, holding_mechanism
+from . import experiments, holding_mechanism, maintenance, robustness
+from .robustness import read_record
 from .screen import read_screen, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
 
@@ -75,6 +76,28 @@ def judge_e8_e9(folder: Path, judged: Judged) -> None:
     judged.runs["E8, E9"] = sorted(p.parent for p in Path(folder).glob("*/run-*/run.json"))
 
 
+def judge_e6_transplant(folder: Path, judged: Judged) -> None:
+    """E6-P, E6-G and E6-R from the folder of `econet sweep transplant --arms
+    padded,silenced,continued`."""
+    record = read_record(Path(folder))
+    missing = {"padded", "silenced", "continued"} - set(record.get("arms", ()))
+    if missing:
+        raise ResultsError(f"{folder} holds no E6 arm(s) {', '.join(sorted(missing))}")
+    judged.found |= {k: Judgement.of(k, c) for k, c in maintenance.maintenance(record).items()}
+    judged.runs["E6 arms"] = sorted(p.parent for p in Path(folder).glob("*/seed-*/run.json"))
+
+
+def judge_e6_robustness(folder: Path, judged: Judged) -> None:
+    """E6-M from the folder of `econet sweep robustness`, silenced - champion beside it."""
+    with open(Path(folder) / robustness.TABLE, newline="", encoding="utf-8") as handle:
+        rows = [{**r, "seed": int(r["seed"]), "share": float(r["share"])}
+                for r in csv.DictReader(handle)]
+    judged.found["E6-M"] = Judgement.of("E6-M", maintenance.robustness(rows)["E6-M"])
+    beside = maintenance.against_champion(rows, "silenced")
+    judged.notes.append(f"Beside E6-M, not judged: holding share of mutants, silenced - "
+                        f"champion {beside.text(3)}.")
+
+
 def judge_e6_screen(folder: Path, judged: Judged) -> None:
     """E6-S from the folder of `econet sweep screen` run on an e6-screen spec."""
     criteria = screen_criteria(read_screen(Path(folder)))
@@ -84,7 +107,8 @@ def judge_e6_screen(folder: Path, judged: Judged) -> None:
 
 
 JUDGES: dict[str, Callable[[Path, Judged], None]] = {
-    "e5": judge_e5, "e6_screen": judge_e6_screen, "e7": judge_e7, "e8": judge_e8_e9}
+    "e5": judge_e5, "e6_transplant": judge_e6_transplant,
+    "e6_robustness": judge_e6_robustness, "e6_screen": judge_e6_screen, "e7": judge_e7, "e8": judge_e8_e9}
 
 
 # -- the family -------------------------------------------------------------------------------

@@ -93,3 +93,30 @@ def test_e6_s_comes_from_an_e6_screen_and_not_from_e2s(tmp_path):
     e2 = screened_into(tiny_screen("e2-screen"), tmp_path / "e2")
     with pytest.raises(ResultsError, match="another rule than E6's"):
         F.second_family_page({"e6_screen": e2}, tmp_path / "page")
+
+
+def test_e6s_arms_and_assay_come_from_their_stored_folders(tmp_path):
+    import json
+    arms = tmp_path / "arms"
+    arms.mkdir()
+    runs = [{"seed": s, "source_holds": True, "padded": holding.BRUSHES if s % 2 else
+             holding.HOLDS, "silenced": holding.HOLDS, "continued": holding.HOLDS}
+            for s in range(60)]
+    (arms / "transplant.json").write_text(json.dumps(
+        {"source": "x", "into": [4, 4, 8], "arms": ["padded", "silenced", "continued"],
+         "runs": runs}))
+    assay = tmp_path / "assay"
+    assay.mkdir()
+    lines = ["seed,kind,mutants,holding,share"] + [
+        f"{s},{kind},100,{held},{held / 100}" for s in range(30)
+        for kind, held in (("champion", 90), ("padded", 40), ("silenced", 85))]
+    (assay / "robustness.csv").write_text("\n".join(lines) + "\n")
+    page = F.second_family_page({"e6_transplant": arms, "e6_robustness": assay},
+                                tmp_path / "page").read_text()
+    for key in ("E6-P", "E6-G", "E6-R", "E6-M"):
+        assert f"| {key} |" in page
+    assert "silenced - champion" in page
+    (arms / "transplant.json").write_text(json.dumps(
+        {"source": "x", "into": [4, 4, 8], "arms": ["transplanted", "control"], "runs": []}))
+    with pytest.raises(ResultsError, match="holds no E6 arm"):
+        F.second_family_page({"e6_transplant": arms}, tmp_path / "page")
