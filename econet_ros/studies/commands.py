@@ -80,7 +80,7 @@ class Transplant(Verb):
 
 
 class Robustness(Verb):
-    """econet sweep robustness TRANSPLANT_FOLDER --out DIR [--mutants N]."""
+    """econet sweep robustness TRANSPLANT_FOLDER --out DIR [--mutants N] [--natural SWEEP]..."""
 
     def add_parser(self, verbs, name: str) -> None:
         assay = verbs.add_parser(
@@ -100,6 +100,10 @@ class Robustness(Verb):
         assay.add_argument("--out", required=True, help="results folder")
         assay.add_argument("--mutants", type=positive, default=200, metavar="N",
                            help="mutants per source and kind (default: 200, as registered)")
+        assay.add_argument("--natural", action="append", default=[], metavar="SWEEP",
+                           help="a sweep folder whose runs of the larger net that hold are "
+                                "assayed too, as champions in their own net (reported beside "
+                                "E6-M, not judged); may be given more than once")
         assay.set_defaults(handler=self.run)
 
     @staticmethod
@@ -107,9 +111,11 @@ class Robustness(Verb):
         from .maintenance import against_champion, robustness
         from .robustness import TABLE, run_robustness
         ensure_writable(Path(args.out))
-        rows = run_robustness(Path(args.transplants), Path(args.out), args.mutants)
+        rows = run_robustness(Path(args.transplants), Path(args.out), args.mutants,
+                              [Path(f) for f in args.natural])
         judged = robustness(rows)["E6-M"]
-        print(f"robustness: {len({r['seed'] for r in rows})} holding source(s) "
+        print(f"robustness: {len({r['seed'] for r in rows if r['kind'] == 'champion'})} "
+              f"holding source(s) "
               f"({Path(args.out) / TABLE})\nE6-M {judged.what}: {judged.text(four=True)}: "
               f"{judged.judged}\nbeside it, silenced - champion: "
               f"{against_champion(rows, 'silenced').text()}")

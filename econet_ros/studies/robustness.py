@@ -30,6 +30,7 @@ MUTANTS = 200
 KINDS = {"champion": (False, champion_genome), "padded": (True, transplanted_genome),
          "silenced": (True, silenced_genome)}       # kind: (in the larger net, its genome)
 COLUMNS = ("seed", "kind", "mutants", "holding", "share")
+NATURAL = "natural"   # kinds "natural SWEEP/CELL": large nets' own holders, beside E6-M
 
 
 def mutants(config: Config, genome: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -63,6 +64,27 @@ def assay(source: Source, units: tuple[int, int, int], n: int = MUTANTS) -> list
     return rows
 
 
+def natural_rows(folders: list[Path], units: tuple[int, int, int], n: int = MUTANTS
+                 ) -> list[dict]:
+    """Rows for the champion of every holding run of the sweeps whose net is UNITS (a large net
+    that found holding from random genomes), mutated and scored in its own net as a champion
+    is; its kind names the sweep and cell, so that runs of one seed in two sweeps stay apart."""
+    rows = []
+    for folder in map(Path, folders):
+        for source in sources(folder):
+            net = source.config.network
+            if not source.holds or (net.visual_hidden, net.proprio_hidden,
+                                    net.intermodal_hidden) != tuple(units):
+                continue
+            drawn = mutants(source.config, champion_genome(source, source.config), n,
+                            np.random.default_rng([STREAM, source.seed]))
+            held = int(holding_flags(source, source.config, drawn).sum())
+            rows.append({"seed": source.seed, "kind": f"{NATURAL} {folder.name}/"
+                         f"{source.folder.parent.parent.name}", "mutants": n, "holding": held,
+                         "share": held / n})
+    return rows
+
+
 def read_record(folder: Path) -> dict:
     """The transplant record of a folder made by econet sweep transplant (ResultsError if none)."""
     path = Path(folder) / RECORD
@@ -72,13 +94,15 @@ def read_record(folder: Path) -> dict:
     return json.loads(path.read_text())
 
 
-def run_robustness(folder: Path, out: Path, n: int = MUTANTS) -> list[dict]:
-    """The assay for every holding source of a transplant folder; returns the rows written."""
+def run_robustness(folder: Path, out: Path, n: int = MUTANTS, natural: list[Path] = ()
+                   ) -> list[dict]:
+    """The assay for every holding source of a transplant folder, and for the natural holders
+    of the large net in the sweeps NATURAL; returns the rows written."""
     record = read_record(folder)
     units = tuple(record["into"])
     holders = {r["seed"] for r in record["runs"] if r["source_holds"]}
     rows = [row for source in sources(Path(record["source"])) if source.seed in holders
-            for row in assay(source, units, n)]
+            for row in assay(source, units, n)] + natural_rows(natural, units, n)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = io.StringIO()
@@ -87,7 +111,8 @@ def run_robustness(folder: Path, out: Path, n: int = MUTANTS) -> list[dict]:
     writer.writerows(rows)
     write_atomically(out / TABLE, table.getvalue())
     settings = {"transplant": str(folder), "source": record["source"], "into": list(units),
-                "mutants": n, "generator": [STREAM, "source seed"], "kinds": list(KINDS)}
+                "mutants": n, "generator": [STREAM, "source seed"], "kinds": list(KINDS),
+                "natural": [str(f) for f in natural]}
     write_atomically(out / SETTINGS, json.dumps(settings, indent=1) + "\n")
     return rows
 

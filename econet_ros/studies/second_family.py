@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
+
 from ..errors import ResultsError
 from ..files import write_atomically
 from ..provenance import dirty_warning, made_with, registration
@@ -96,6 +98,14 @@ def judge_e6_robustness(folder: Path, judged: Judged) -> None:
     beside = maintenance.against_champion(rows, "silenced")
     judged.notes.append(f"Beside E6-M, not judged: holding share of mutants, silenced - "
                         f"champion {beside.text(3)}.")
+    natural = [r["share"] for r in rows if r["kind"].startswith(robustness.NATURAL)]
+    champions = [r["share"] for r in rows if r["kind"] == "champion"]
+    if natural:
+        judged.notes.append(
+            f"Beside E6-M, not judged: natural 4/4/8 holders' mutants hold in a median share "
+            f"of {np.median(natural):.3f} (n = {len(natural)} holders; range "
+            f"{min(natural):.3f}-{max(natural):.3f}), the 2/2/4 champions' in "
+            f"{np.median(champions):.3f} (n = {len(champions)}).")
 
 
 def judge_e6_screen(folder: Path, judged: Judged) -> None:

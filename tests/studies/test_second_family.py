@@ -110,12 +110,15 @@ def test_e6s_arms_and_assay_come_from_their_stored_folders(tmp_path):
     lines = ["seed,kind,mutants,holding,share"] + [
         f"{s},{kind},100,{held},{held / 100}" for s in range(30)
         for kind, held in (("champion", 90), ("padded", 40), ("silenced", 85))]
+    lines.append("9101,natural e1-width/four-4-4-8,100,50,0.5")
     (assay / "robustness.csv").write_text("\n".join(lines) + "\n")
     page = F.second_family_page({"e6_transplant": arms, "e6_robustness": assay},
                                 tmp_path / "page").read_text()
     for key in ("E6-P", "E6-G", "E6-R", "E6-M"):
         assert f"| {key} |" in page
     assert "silenced - champion" in page
+    assert "natural 4/4/8 holders' mutants hold in a median share of 0.500 (n = 1" in page
+    assert "(n = 30)" in page                # the natural row is not a champion of E6-M
     (arms / "transplant.json").write_text(json.dumps(
         {"source": "x", "into": [4, 4, 8], "arms": ["transplanted", "control"], "runs": []}))
     with pytest.raises(ResultsError, match="holds no E6 arm"):

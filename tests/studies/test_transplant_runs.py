@@ -223,3 +223,17 @@ def test_the_robustness_verb_prints_e6_m_with_silenced_beside(source, tmp_path, 
     assert "2 holding source(s)" in said and "E6-M holding share of mutants, padded - champion"\
         in said and "silenced - champion: median" in said
     assert (tmp_path / "r" / robustness.TABLE).read_text().count("\n") == 1 + 2 * 3
+
+
+def test_natural_holders_of_the_large_net_are_assayed_in_their_own_net(source, tmp_path,
+                                                                        monkeypatch):
+    """Rows of kind "natural SWEEP/CELL" for every holding run whose net is the larger one
+    (here the tiny sweep's own 2/2/4), its champion's mutants scored as a champion's are."""
+    found = [replace(s, holds=True) for s in transplant.sources(source)]
+    monkeypatch.setattr(robustness, "sources", lambda folder: found)
+    rows = robustness.natural_rows([source], (2, 2, 4), n=4)
+    champions = robustness.assay(found[0], (4, 4, 8), 4)
+    assert [(r["seed"], r["kind"]) for r in rows] == [
+        (11, f"natural {source.name}/small"), (12, f"natural {source.name}/small")]
+    assert rows[0]["share"] == champions[0]["share"]     # same genome, generator and trials
+    assert robustness.natural_rows([source], (4, 4, 8), n=4) == []
