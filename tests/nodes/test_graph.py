@@ -388,13 +388,12 @@ def test_bad_parameter_is_one_line_error(tmp_path):
         "(normal, random, reacher, three-layer) and not module:Class"]
 
 
-def test_controller_ignores_sensors_of_inconsistent_size(procs, ros):
-    """Sensor arrays that do not match their n_envs get a log line and no command; the
-    controller keeps serving and answers the next consistent cycle."""
-    _, log = procs.start("controller", "/badsense")
-    node = make_node(ros, "badsense_probe", "/badsense")
-    commands = []
-    answers = node.create_subscription(MuscleCommand, "muscle_command", commands.append,
+def sensor_probe(ros, namespace, on_command):
+    """A node in NAMESPACE that plays the world to a controller there: ON_COMMAND hears its
+    commands, and send(cycle, retina_values=8) publishes one environment's three sensor
+    messages of trial 1 (RETINA_VALUES activations: 8 is consistent)."""
+    node = make_node(ros, f"{namespace.strip('/')}_probe", namespace)
+    answers = node.create_subscription(MuscleCommand, "muscle_command", on_command,
                                        common.LOCKSTEP_QOS)
     pubs = {name: node.create_publisher(t, name, common.LOCKSTEP_QOS)
             for name, t in (("retina", Retina), ("proprioception", Proprioception),
@@ -402,13 +401,22 @@ def test_controller_ignores_sensors_of_inconsistent_size(procs, ros):
     spin_until(ros, lambda: all(p.get_subscription_count() for p in pubs.values())
                and answers.get_publisher_count(), what="the controller, matched both ways")
 
-    def send(cycle, retina_values):
+    def send(cycle, retina_values=8):
         head = dict(trial=1, cycle=cycle, n_envs=1)
         pubs["touch"].publish(Touch(**head, contact=array.array("B", [0])))
         pubs["proprioception"].publish(Proprioception(**head, stretch=common.f64([0.5] * 4)))
         pubs["retina"].publish(Retina(**head, units_per_env=8,
                                       activation=common.f64([0.0] * retina_values),
                                       fixated=array.array("B", [0])))
+    return node, send
+
+
+def test_controller_ignores_sensors_of_inconsistent_size(procs, ros):
+    """Sensor arrays that do not match their n_envs get a log line and no command; the
+    controller keeps serving and answers the next consistent cycle."""
+    _, log = procs.start("controller", "/badsense")
+    commands = []
+    node, send = sensor_probe(ros, "/badsense", commands.append)
 
     send(0, 7)                                   # one retina value short
     # Consistent cycles follow, one a second until one is answered: seeing the controller's
@@ -434,28 +442,13 @@ def test_a_cycle_sent_again_gets_the_same_command_and_random_movement_does_not_m
     cycle (acting twice drew one command ahead: the graph's random fitness then parted from the
     in-process one, docs/reliability.md)."""
     procs.start("controller", "/resent", "controller:=random")
-    node = make_node(ros, "resent_probe", "/resent")
     heard = {}                               # cycle -> every command heard for it
-    answers = node.create_subscription(
-        MuscleCommand, "muscle_command",
-        lambda m: heard.setdefault(m.cycle, []).append(np.array(m.activation)),
-        common.LOCKSTEP_QOS)
-    pubs = {name: node.create_publisher(t, name, common.LOCKSTEP_QOS)
-            for name, t in (("retina", Retina), ("proprioception", Proprioception),
-                            ("touch", Touch))}
-    spin_until(ros, lambda: all(p.get_subscription_count() for p in pubs.values())
-               and answers.get_publisher_count(), what="the controller, matched both ways")
+    node, send = sensor_probe(ros, "/resent", lambda m: heard.setdefault(m.cycle, []).append(
+        np.array(m.activation)))
     k = RandomMovement(1, Config()).n_params      # a net it carries but does not move by
     reply = call(ros, node.create_client(SetWeights, "set_weights"), SetWeights.Request(
         n_envs=1, weights_per_network=k, weights=common.f64([0.0] * k), noise_seed=7))
     assert reply.success, reply.message
-
-    def send(cycle):
-        head = dict(trial=1, cycle=cycle, n_envs=1)
-        pubs["touch"].publish(Touch(**head, contact=array.array("B", [0])))
-        pubs["proprioception"].publish(Proprioception(**head, stretch=common.f64([0.5] * 4)))
-        pubs["retina"].publish(Retina(**head, units_per_env=8, activation=common.f64([0.0] * 8),
-                                      fixated=array.array("B", [0])))
 
     def answered(cycle, times):
         for _ in range(30):                  # once a second, as the world sends a cycle again
