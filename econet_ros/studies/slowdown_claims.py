@@ -111,4 +111,7 @@ def named_lines() -> list[str]:
 
 
 def finite(p: float) -> str:
-    return f"{p:.3g}" if math.isfinite(p) else "n/a"
+    """A p-value for a table: n/a when not measured, a bound when it underflows to 0."""
+    if not math.isfinite(p):
+        return "n/a"
+    return f"{p:.3g}" if p > 0 else "< 1e-300"

@@ -83,3 +83,8 @@ def test_e8_and_e9_with_the_contrasts_make_thirteen_of_the_family():
     from econet_ros.studies.experiments import FAMILY_E5_E9
     keys = [*S.E8_CLAIMS, "E8-F", "E8-N", *S.E9_CLAIMS]
     assert len(keys) == 13 and set(keys) <= set(FAMILY_E5_E9)
+
+
+def test_a_p_value_that_underflows_is_shown_as_a_bound():
+    assert S.finite(0.0) == "< 1e-300" and S.finite(0.0123) == "0.0123"
+    assert S.finite(float("nan")) == "n/a"
