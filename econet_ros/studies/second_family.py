@@ -24,7 +24,8 @@ from .robustness import read_record
 from .screen import read_screen, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
 
-REGISTERED = "1781986"      # the commit of the registration's text (docs/preregistrations.md)
+REGISTERED = "1781986"      # the commit of E6-E9's registration text (docs/preregistrations.md)
+E5_REGISTERED = "fbae2b1"   # E5's: its rule, before any champion's activations were read
 PAGE = "e5-e9.md"
 
 
@@ -61,6 +62,10 @@ def judge_e5(folder: Path, judged: Judged) -> None:
     verdict, p = holding_mechanism.verdict(rows)
     text = "; ".join(c.text(four=True) for c in criteria.values())
     judged.found["E5"] = Judgement("E5", text, verdict, p)
+    judged.notes.append(f"E5 reads stored champions (no runs of its own): registered at "
+                        f"`{E5_REGISTERED}` before any champion's activations were read; its "
+                        f"runs are E1-E4's, made again, and its summary says which code made "
+                        f"them.")
 
 
 def judge_e7(folder: Path, judged: Judged) -> None:
