@@ -21,6 +21,7 @@ from ..config import Config
 from ..errors import ResultsError
 from ..evolution import InProcessEvaluator, initial_genomes
 from ..files import write_atomically
+from ..provenance import code
 from ..science import holding
 from ..science.claims import RANGE_SHARE
 from ..science.stats import share, share_difference
@@ -30,6 +31,7 @@ from ..trials import TrialMeasures
 from .rules import E2Screen, E6Screen
 
 TABLE, SPEC, GENOMES = "screen.csv", "screen.json", "screen-genomes.csv"
+CODE = "provenance.json"      # the code that screened (provenance.code), as a run records it
 COLUMNS = ("cell", "condition", "seed", "genomes", "reach", "hold")
 LASTING_COLUMNS = ("tested", "tested_hold")    # E6's counts, absent from screens stored before
 GENOME_COLUMNS = ("cell", "condition", "seed", "genome", "successes", "separations", "kind",
@@ -141,6 +143,7 @@ def run_screen(spec: SweepSpec, out: Path) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     rows, genomes = screen_rows(spec)
     write_atomically(out / SPEC, json.dumps(spec.to_dict(), indent=2, sort_keys=True) + "\n")
+    write_atomically(out / CODE, json.dumps(code(), indent=2, sort_keys=True) + "\n")
     write_atomically(out / TABLE, as_csv(COLUMNS + LASTING_COLUMNS, rows))
     write_atomically(out / GENOMES, as_csv(GENOME_COLUMNS, genomes))
     return out / TABLE
@@ -158,6 +161,16 @@ def counted_flags(rows: list[dict], cells: list[str], total: str, part: str) -> 
         counted, inside = int(row[total]), int(row[part])
         flags[row["cell"]] += [1.0] * inside + [0.0] * (counted - inside)
     return {cell: np.array(f) for cell, f in flags.items()}
+
+
+def screen_code(folder: Path) -> tuple[str, bool | None]:
+    """(commit, dirty) of the code that made a stored screen; ("", None) for one stored before
+    screens recorded it."""
+    try:
+        made = json.loads((Path(folder) / CODE).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return "", None
+    return made.get("commit", ""), made.get("dirty")
 
 
 def read_screen(folder: Path) -> Screened:

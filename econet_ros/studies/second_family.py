@@ -21,7 +21,7 @@ from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, REPLICATES, holm_family
 from . import experiments, holding_mechanism, maintenance, robustness
 from .robustness import read_record
-from .screen import read_screen, screen_criteria
+from .screen import read_screen, screen_code, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
 
 REGISTERED = "1781986"      # the commit of E6-E9's registration text (docs/preregistrations.md)
@@ -44,6 +44,7 @@ class Judged:
 
     found: dict[str, Judgement] = field(default_factory=dict)
     runs: dict[str, list[Path]] = field(default_factory=dict)   # experiment -> run folders
+    codes: dict[str, list[tuple[str, bool | None]]] = field(default_factory=dict)  # no folders
     notes: list[str] = field(default_factory=list)
 
 
@@ -119,6 +120,7 @@ def judge_e6_screen(folder: Path, judged: Judged) -> None:
     if "E6-S" not in criteria:
         raise ResultsError(f"{folder} holds a screen of another rule than E6's")
     judged.found["E6-S"] = Judgement.of("E6-S", criteria["E6-S"])
+    judged.codes["E6-S screen"] = [screen_code(Path(folder))]
 
 
 JUDGES: dict[str, Callable[[Path, Judged], None]] = {
@@ -195,8 +197,8 @@ def page_lines(judged: Judged) -> list[str]:
              "Registered in docs/preregistrations.md (\"E5: what holding is\" and \"E6-E9 and "
              "the E5-E9 family\") before their runs. Holm over the hypotheses judged here, of "
              f"the registered {len(experiments.FAMILY_E5_E9)}.\n"]
-    for name, runs in judged.runs.items():
-        codes = [run_code(r) for r in runs]
+    made = {name: [run_code(r) for r in runs] for name, runs in judged.runs.items()}
+    for name, codes in (made | judged.codes).items():
         lines.append(f"- {name}: " + made_with(codes, [registration(
             REGISTERED, [commits for commits, _ in codes])]))
     lines += ["", *table(adjusted), ""]

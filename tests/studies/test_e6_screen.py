@@ -136,3 +136,13 @@ def test_the_registered_e6_screen_names_its_networks_seeds_and_cells():
     assert spec.rule["registered"].startswith("1781986") and len(spec.rule["registered"]) == 40
     assert {r.config.evolution.population for r in spec.runs()} == {200}
     assert [c["label"] for c in spec.compare] == ["three-layer 8 - 4"]
+
+
+def test_a_screen_records_the_code_that_made_it(tmp_path):
+    from sweep_helpers import screened_into, tiny_screen
+
+    from econet_ros.provenance import code
+    from econet_ros.studies import screen
+    folder = screened_into(tiny_screen("e6-screen"), tmp_path)
+    assert screen.screen_code(folder) == (code()["commit"], code()["dirty"])
+    assert screen.screen_code(tmp_path / "elsewhere") == ("", None)

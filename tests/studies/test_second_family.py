@@ -89,7 +89,7 @@ def test_e6_s_comes_from_an_e6_screen_and_not_from_e2s(tmp_path):
     (tmp_path / "e2").mkdir()
     e6 = screened_into(tiny_screen("e6-screen"), tmp_path / "e6")
     page = F.second_family_page({"e6_screen": e6}, tmp_path / "page").read_text()
-    assert "| E6-S |" in page
+    assert "| E6-S |" in page and "- E6-S screen: **Code**" in page
     e2 = screened_into(tiny_screen("e2-screen"), tmp_path / "e2")
     with pytest.raises(ResultsError, match="another rule than E6's"):
         F.second_family_page({"e6_screen": e2}, tmp_path / "page")
