@@ -21,6 +21,7 @@ from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, REPLICATES, holm_family
 from . import experiments, holding_mechanism, maintenance, robustness
 from .robustness import read_record
+from .transplant import E6_ARMS, arms_of
 from .screen import read_screen, screen_code, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
 
@@ -88,7 +89,7 @@ def judge_e6_transplant(folder: Path, judged: Judged) -> None:
     """E6-P, E6-G and E6-R from the folder of `econet sweep transplant --arms
     padded,silenced,continued`."""
     record = read_record(Path(folder))
-    missing = {"padded", "silenced", "continued"} - set(record.get("arms", ()))
+    missing = set(E6_ARMS) - set(arms_of(record))
     if missing:
         raise ResultsError(f"{folder} holds no E6 arm(s) {', '.join(sorted(missing))}")
     judged.found |= {k: Judgement.of(k, c) for k, c in maintenance.maintenance(record).items()}
