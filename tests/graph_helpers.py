@@ -68,11 +68,23 @@ def spin_until(executor, done, timeout: float = 30.0, what: str = "condition") -
         executor.spin_once(timeout_sec=0.05)
 
 
-def call(executor, client, request, timeout: float = 30.0):
+def call(executor, client, request, timeout: float = 30.0, resend_sec: float = 5.0):
+    """The reply to REQUEST, which is sent again every RESEND_SEC until one comes, as the
+    supervisor does: a server drops its reply to a client whose reader it has not discovered
+    yet (Fast DDS waits 100 ms, then logs "client will not receive response"), which a busy
+    machine can make happen to a fresh client's first call although service_is_ready() said
+    yes. Only one reply is taken; a resent request runs twice on the server."""
     spin_until(executor, client.service_is_ready, timeout, f"service {client.srv_name}")
-    future = client.call_async(request)
-    spin_until(executor, future.done, timeout, f"reply from {client.srv_name}")
-    return future.result()
+    deadline = time.monotonic() + timeout
+    futures = []
+    while not any(f.done() for f in futures):
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for reply from {client.srv_name}")
+        futures.append(client.call_async(request))
+        resend = time.monotonic() + resend_sec
+        while not any(f.done() for f in futures) and time.monotonic() < min(resend, deadline):
+            executor.spin_once(timeout_sec=0.05)
+    return next(f for f in futures if f.done()).result()
 
 
 def ros_session(tmp_path_factory, domain: int, label: str):
