@@ -3,8 +3,7 @@
 sweep, ``robustness`` E6's mutational-robustness assay of their genomes, ``screen`` stores E2's
 or E6's screen of random genomes, ``experiments`` writes the page of the experiments E1-E4 and
 the independent check from the folders that hold them, ``e5-e9`` the page of E5-E9. Each imports
-its
-work only when run."""
+its work only when run."""
 from __future__ import annotations
 
 import argparse
@@ -114,11 +113,10 @@ class Robustness(Verb):
         rows = run_robustness(Path(args.transplants), Path(args.out), args.mutants,
                               [Path(f) for f in args.natural])
         judged = robustness(rows)["E6-M"]
-        print(f"robustness: {len({r['seed'] for r in rows if r['kind'] == 'champion'})} "
-              f"holding source(s) "
-              f"({Path(args.out) / TABLE})\nE6-M {judged.what}: {judged.text(four=True)}: "
-              f"{judged.judged}\nbeside it, silenced - champion: "
-              f"{against_champion(rows, 'silenced').text()}")
+        sources = len({r["seed"] for r in rows if r["kind"] == "champion"})
+        print(f"robustness: {sources} holding source(s) ({Path(args.out) / TABLE})\n"
+              f"E6-M: {judged.text(four=True)}\n"
+              f"beside it, silenced - champion: {against_champion(rows, 'silenced').text()}")
         return 0
 
 

@@ -168,13 +168,25 @@ def run_folders(results: list[Path]) -> dict[str, Path]:
 
 
 def stored_rows(path: Path, name: str) -> list[dict]:
-    """The rows of an earlier E5 table (as written by write_table), each run named NAME/run."""
-    with open(path, newline="", encoding="utf-8") as handle:
-        rows = list(csv.DictReader(handle))
+    """The rows of an earlier E5 table (as written by write_table), each run named NAME/run;
+    ResultsError (one line) for a missing or damaged table."""
     numbers = ("contact_cycles", "replay_fitness", "stored_fitness")
-    return [{**{c: r[c] for c in COLUMNS}, "run": f"{name}/{r['run']}",
-             "median_largest_on_contact": float(r["median_largest_on_contact"]),
-             **{c: int(r[c]) for c in numbers}} for r in rows]
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            return [{**{c: r[c] for c in COLUMNS}, "run": f"{name}/{r['run']}",
+                     "median_largest_on_contact": float(r["median_largest_on_contact"]),
+                     **{c: int(r[c]) for c in numbers}} for r in csv.DictReader(handle)]
+    except (OSError, KeyError, ValueError, TypeError, csv.Error) as error:
+        raise ResultsError(f"{path} is not a readable E5 table ({error!r})") from None
+
+
+def stored_table(text: str) -> tuple[str, Path]:
+    """--stored's NAME=CSV."""
+    name, _, path = text.partition("=")
+    if not name or not path:
+        raise argparse.ArgumentTypeError(f"expected NAME=CSV, e.g. e4=docs/results/e5/"
+                                         f"e4-champions.csv, got {text!r}")
+    return name, Path(path)
 
 
 def write_table(rows: list[dict], path: Path) -> None:
@@ -252,18 +264,23 @@ def main(argv: list[str] | None = None) -> None:
     kept under NAME (a source whose runs are not on this machine)."""
     parser = argparse.ArgumentParser(description=main.__doc__)
     parser.add_argument("results", nargs="*", type=Path)
-    parser.add_argument("--stored", action="append", default=[], metavar="NAME=CSV")
+    parser.add_argument("--stored", action="append", default=[], type=stored_table,
+                        metavar="NAME=CSV")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args(argv)
-    runs = run_folders(args.results) if args.results else {}
-    rows = [champion_row(run, label) for label, run in runs.items()]
-    for item in args.stored:
-        name, _, path = item.partition("=")
-        rows += stored_rows(Path(path), name)
+    if not args.results and not args.stored:
+        parser.error("give result folders, --stored NAME=CSV, or both")
+    try:
+        runs = run_folders(args.results) if args.results else {}
+        rows = [row for name, path in args.stored for row in stored_rows(path, name)]
+        rows = [champion_row(run, label) for label, run in runs.items()] + rows
+    except ResultsError as error:
+        parser.error(str(error))
     args.out.mkdir(parents=True, exist_ok=True)
     write_table(rows, args.out / TABLE)
+    stored = [f"{name}={path}" for name, path in args.stored]
     (args.out / SUMMARY).write_text("\n".join(summary_markdown(rows, list(runs.values()),
-                                                              args.stored)))
+                                                              stored)))
 
 
 if __name__ == "__main__":

@@ -51,16 +51,20 @@ def holding_flags(source: Source, config: Config, genomes: np.ndarray) -> np.nda
                      for s, k in zip(separations, successes)])
 
 
+def mutant_row(source: Source, config: Config, genome: np.ndarray, kind: str, n: int) -> dict:
+    """The row of N mutants of GENOME in CONFIG's net, drawn from the registered generator:
+    how many of them hold and their share."""
+    drawn = mutants(config, genome, n, np.random.default_rng([STREAM, source.seed]))
+    held = int(holding_flags(source, config, drawn).sum())
+    return {"seed": source.seed, "kind": kind, "mutants": n, "holding": held, "share": held / n}
+
+
 def assay(source: Source, units: tuple[int, int, int], n: int = MUTANTS) -> list[dict]:
     """One holding source's rows: per kind, its mutants, how many hold and their share."""
     rows = []
     for kind, (in_larger, genome_of) in KINDS.items():
         config = larger(source.config, units) if in_larger else source.config
-        drawn = mutants(config, genome_of(source, config), n,
-                        np.random.default_rng([STREAM, source.seed]))
-        held = int(holding_flags(source, config, drawn).sum())
-        rows.append({"seed": source.seed, "kind": kind, "mutants": n, "holding": held,
-                     "share": held / n})
+        rows.append(mutant_row(source, config, genome_of(source, config), kind, n))
     return rows
 
 
@@ -76,12 +80,9 @@ def natural_rows(folders: list[Path], units: tuple[int, int, int], n: int = MUTA
             if not source.holds or (net.visual_hidden, net.proprio_hidden,
                                     net.intermodal_hidden) != tuple(units):
                 continue
-            drawn = mutants(source.config, champion_genome(source, source.config), n,
-                            np.random.default_rng([STREAM, source.seed]))
-            held = int(holding_flags(source, source.config, drawn).sum())
-            rows.append({"seed": source.seed, "kind": f"{NATURAL} {folder.name}/"
-                         f"{source.folder.parent.parent.name}", "mutants": n, "holding": held,
-                         "share": held / n})
+            kind = f"{NATURAL} {folder.name}/{source.folder.parent.parent.name}"
+            rows.append(mutant_row(source, source.config,
+                                   champion_genome(source, source.config), kind, n))
     return rows
 
 

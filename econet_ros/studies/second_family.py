@@ -21,9 +21,9 @@ from ..science.sweeps.spec import load_sweep
 from ..science.verdicts import ABSENT, REPLICATES, holm_family
 from . import experiments, holding_mechanism, maintenance, robustness
 from .robustness import read_record
-from .transplant import E6_ARMS, arms_of
 from .screen import read_screen, screen_code, screen_criteria
 from .slowdown_claims import Judgement, finite, judge_study, named_lines
+from .transplant import E6_ARMS, arms_of
 
 REGISTERED = "1781986"      # the commit of E6-E9's registration text (docs/preregistrations.md)
 E5_REGISTERED = "fbae2b1"   # E5's: its rule, before any champion's activations were read
@@ -125,8 +125,8 @@ def judge_e6_screen(folder: Path, judged: Judged) -> None:
 
 
 JUDGES: dict[str, Callable[[Path, Judged], None]] = {
-    "e5": judge_e5, "e6_transplant": judge_e6_transplant,
-    "e6_robustness": judge_e6_robustness, "e6_screen": judge_e6_screen, "e7": judge_e7, "e8": judge_e8_e9}
+    "e5": judge_e5, "e6_transplant": judge_e6_transplant, "e6_robustness": judge_e6_robustness,
+    "e6_screen": judge_e6_screen, "e7": judge_e7, "e8": judge_e8_e9}
 
 
 # -- the family -------------------------------------------------------------------------------

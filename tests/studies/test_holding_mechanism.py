@@ -155,3 +155,20 @@ def test_every_registered_source_makes_the_summary_whole():
                "median_largest_on_contact": 0.001} for name in e5.REGISTERED_DATA]
     assert e5.coverage(judged).startswith("Data: every registered source")
     assert "PARTIAL" in e5.coverage(judged[1:])
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--stored", "e4"], "expected NAME=CSV"),
+    (["--stored", "e4=nowhere.csv"], "nowhere.csv is not a readable E5 table"),
+    ([], "give result folders, --stored NAME=CSV, or both"),
+    (["empty-folder"], "no finished run with a network under"),
+])
+def test_bad_input_is_one_line_and_exit_status_2(tmp_path, capsys, monkeypatch, argv, said):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "empty-folder").mkdir()
+    with pytest.raises(SystemExit) as stop:
+        e5.main([*argv, "--out", str(tmp_path / "out")])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert said in err[-1] and "Traceback" not in "\n".join(err)
+    assert not (tmp_path / "out").exists()
